@@ -1,0 +1,145 @@
+#include "core/dataset.hpp"
+
+#include <cmath>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/h5.hpp"
+
+namespace yarnhom {
+
+const TermData* Dataset::find(const std::string& name) const {
+  for (const TermData& t : terms)
+    if (t.term.name == name) return &t;
+  return nullptr;
+}
+
+namespace {
+
+void check_finite(const std::vector<double>& v, const std::string& file, const std::string& obj) {
+  for (size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i]))
+      throw FileError(file, obj, "non-finite value at flat index " + std::to_string(i));
+}
+
+}  // namespace
+
+void validate_dataset(const Dataset& ds, const std::string& file) {
+  if (ds.terms.empty()) throw FileError(file, "/terms", "no terms");
+  if (!std::isfinite(ds.psi0)) throw FileError(file, "/rest", "psi0 is not finite");
+  for (const TermData& t : ds.terms) {
+    const std::string g = "/terms/" + t.term.name;
+    const size_t d = t.dim();
+    if (t.n < 2) throw FileError(file, g, "fewer than 2 samples (" + std::to_string(t.n) + ")");
+    if (t.strain.size() != t.n * d)
+      throw FileError(file, g + "/strain", "wrong shape: expected [" + std::to_string(t.n) + ", " +
+                                               std::to_string(d) + "]");
+    if (t.energy.size() != size_t(t.n))
+      throw FileError(file, g + "/energy", "wrong shape: expected [" + std::to_string(t.n) + "]");
+    if (t.gradient.size() != t.n * d)
+      throw FileError(file, g + "/gradient", "wrong shape: expected [" + std::to_string(t.n) +
+                                                 ", " + std::to_string(d) + "]");
+    if (t.raw.size() != size_t(t.n))
+      throw FileError(file, g + "/raw", "wrong shape: expected [" + std::to_string(t.n) + "]");
+    if (t.lower.size() != d || t.upper.size() != d)
+      throw FileError(file, g, "attributes lower/upper must have " + std::to_string(d) + " entries");
+    check_finite(t.strain, file, g + "/strain");
+    check_finite(t.energy, file, g + "/energy");
+    check_finite(t.gradient, file, g + "/gradient");
+    check_finite(t.raw, file, g + "/raw");
+    for (size_t k = 0; k < d; ++k)
+      if (!(t.lower[k] < t.upper[k]) || !std::isfinite(t.lower[k]) || !std::isfinite(t.upper[k]))
+        throw FileError(file, g, "empty or non-finite box: lower must be below upper");
+  }
+}
+
+Dataset read_dataset(const std::string& path) {
+  h5::Node root = h5::open_file(path);
+  Dataset ds;
+  if (!root.has_attr("format") || root.attr_string("format") != kDatasetFormat)
+    root.fail("/", std::string("not a yarnhom dataset (attribute format must be '") +
+                       kDatasetFormat + "')");
+  if (root.attr_int("version") != kDatasetVersion)
+    root.fail("/", "unsupported dataset version " + std::to_string(root.attr_int("version")));
+  ds.pattern = root.has_attr("pattern") ? root.attr_string("pattern") : "";
+  ds.source = root.has_attr("source") ? root.attr_string("source") : "";
+  ds.note = root.has_attr("note") ? root.attr_string("note") : "";
+  h5::Node rest = root.group("rest");
+  ds.psi0 = rest.attr_double("psi0");
+  if (rest.has("q")) ds.rest_q = rest.read_double("q").data;
+  h5::Node terms = root.group("terms");
+  for (const std::string& name : terms.children()) {
+    TermData t;
+    try {
+      t.term = term_by_name(name);
+    } catch (const std::invalid_argument& e) {
+      terms.fail("/terms/" + name, e.what());
+    }
+    h5::Node g = terms.group(name);
+    const size_t d = t.dim();
+    auto indices = g.attr_ints("indices");
+    if (indices != t.term.indices)
+      g.fail(g.path(), "attribute indices does not match the term's strain indices");
+    auto strain = g.read_double("strain");
+    if (strain.dims.size() != 2 || strain.dims[1] != d)
+      g.fail(g.child_path("strain"), "wrong shape: expected [N, " + std::to_string(d) + "]");
+    t.n = static_cast<int>(strain.dims[0]);
+    t.strain = std::move(strain.data);
+    auto energy = g.read_double("energy");
+    if (energy.dims.size() != 1 || energy.dims[0] != size_t(t.n))
+      g.fail(g.child_path("energy"), "wrong shape: expected [" + std::to_string(t.n) + "]");
+    t.energy = std::move(energy.data);
+    auto grad = g.read_double("gradient");
+    if (grad.dims.size() != 2 || grad.dims[0] != size_t(t.n) || grad.dims[1] != d)
+      g.fail(g.child_path("gradient"),
+             "wrong shape: expected [" + std::to_string(t.n) + ", " + std::to_string(d) + "]");
+    t.gradient = std::move(grad.data);
+    auto raw = g.read_double("raw");
+    if (raw.dims.size() != 1 || raw.dims[0] != size_t(t.n))
+      g.fail(g.child_path("raw"), "wrong shape: expected [" + std::to_string(t.n) + "]");
+    t.raw = std::move(raw.data);
+    t.lower = g.attr_doubles("lower");
+    t.upper = g.attr_doubles("upper");
+    ds.terms.push_back(std::move(t));
+  }
+  // Catalogue order, whatever order HDF5 listed them in.
+  std::vector<TermData> ordered;
+  for (const Term& term : all_terms())
+    for (TermData& t : ds.terms)
+      if (t.term.name == term.name) ordered.push_back(std::move(t));
+  ds.terms = std::move(ordered);
+  validate_dataset(ds, path);
+  return ds;
+}
+
+void write_dataset(const std::string& path, const Dataset& ds) {
+  validate_dataset(ds, path);
+  AtomicOutput out(path);
+  {
+    h5::Node root = h5::create_file(out.temp_path());
+    root.set_attr("format", kDatasetFormat);
+    root.set_attr("version", kDatasetVersion);
+    root.set_attr("pattern", ds.pattern);
+    root.set_attr("units", "SI");
+    root.set_attr("source", ds.source);
+    if (!ds.note.empty()) root.set_attr("note", ds.note);
+    h5::Node rest = root.create_group("rest");
+    rest.set_attr("psi0", ds.psi0);
+    rest.write("q", ds.rest_q, {ds.rest_q.size()});
+    h5::Node terms = root.create_group("terms");
+    for (const TermData& t : ds.terms) {
+      h5::Node g = terms.create_group(t.term.name);
+      const hsize_t n = t.n, d = t.dim();
+      g.write("strain", t.strain, {n, d});
+      g.write("energy", t.energy, {n});
+      g.write("gradient", t.gradient, {n, d});
+      g.write("raw", t.raw, {n});
+      g.set_attr("indices", t.term.indices);
+      g.set_attr("lower", t.lower);
+      g.set_attr("upper", t.upper);
+    }
+  }  // file closed before the rename
+  out.commit();
+}
+
+}  // namespace yarnhom

@@ -1,0 +1,54 @@
+#pragma once
+// The dataset file (spec section 5): what `produce` (or `synth`) writes and `train-all` reads.
+//
+//   /                      attrs: format="yarnhom-dataset", version=1, pattern, units="SI", source
+//   /rest                  attrs: psi0 (J/m^2); datasets: q (rest solution)
+//   /terms/<name>/strain   float64 [N, d]
+//   /terms/<name>/energy   float64 [N]
+//   /terms/<name>/gradient float64 [N, d]
+//   /terms/<name>/raw      float64 [N]
+//   /terms/<name>          attrs: indices (int[d]), lower (float[d]), upper (float[d])
+#include <string>
+#include <vector>
+
+#include "core/terms.hpp"
+
+namespace yarnhom {
+
+struct TermData {
+  Term term;
+  int n = 0;                     // number of samples N
+  std::vector<double> strain;    // [N, d] row-major, columns in the order of term.indices
+  std::vector<double> energy;    // [N] term target
+  std::vector<double> gradient;  // [N, d] gradient target
+  std::vector<double> raw;       // [N] Psi(s) - Psi0 before subtracting the 1D terms
+  std::vector<double> lower, upper;  // [d] the sampling box
+  int dim() const { return term.dim(); }
+};
+
+struct Dataset {
+  std::string pattern;        // the yarn pattern's name (or "synthetic")
+  std::string source;         // "yarn-rve" or "synthetic"; says where the numbers come from
+  std::string note;           // free text, e.g. the synthetic energy's definition
+  double psi0 = 0.0;          // Psi(0) after relaxation, J/m^2
+  std::vector<double> rest_q; // rest solution (may be empty for synthetic data)
+  std::vector<TermData> terms;
+
+  const TermData* find(const std::string& name) const;
+};
+
+inline constexpr const char* kDatasetFormat = "yarnhom-dataset";
+inline constexpr int kDatasetVersion = 1;
+
+// Reads and validates; throws FileError naming the file, the object and the problem for a
+// missing or non-HDF5 file, a wrong format tag, missing groups, wrong shapes, non-finite
+// values, fewer than 2 samples, an unknown term, or a box with lower >= upper.
+Dataset read_dataset(const std::string& path);
+
+// Checks the same invariants on an in-memory dataset (file is used in messages only).
+void validate_dataset(const Dataset& ds, const std::string& file);
+
+// Writes atomically (temporary name, then rename).
+void write_dataset(const std::string& path, const Dataset& ds);
+
+}  // namespace yarnhom

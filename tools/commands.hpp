@@ -1,0 +1,22 @@
+#pragma once
+// Subcommand registration. Each tools/cmd_*.cpp defines one register_* function and adds it
+// to command_registry() below; the subcommand's callback does the work and throws ExitCode to
+// leave with a specific status (std::exception prints "yarnhom: error: ..." and exits 1).
+#include <CLI/CLI.hpp>
+#include <vector>
+
+namespace yarnhom::tools {
+
+struct ExitCode {
+  int code;
+};
+
+void register_synth(CLI::App& app);
+void register_train(CLI::App& app);  // train and train-all
+void register_eval(CLI::App& app);
+
+inline std::vector<void (*)(CLI::App&)> command_registry() {
+  return {register_synth, register_train, register_eval};
+}
+
+}  // namespace yarnhom::tools
