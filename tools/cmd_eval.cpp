@@ -1,0 +1,106 @@
+// yarnhom eval: a trained term's energy and derivatives at given strains, as CSV.
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "core/jet_layout.hpp"
+#include "core/model.hpp"
+#include "cpu/network_eval.hpp"
+#include "tools/cli_util.hpp"
+#include "tools/commands.hpp"
+
+namespace yarnhom::tools {
+namespace {
+
+// Reads strain points from a CSV file: one point per line, d numbers separated by commas;
+// blank lines and lines starting with '#' are skipped, and a first line that is not numeric
+// is taken as a header.
+std::vector<double> read_points_csv(const std::string& path, int d) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open");
+  std::vector<double> pts;
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<double> v;
+    try {
+      v = parse_numbers(line, path + ":" + std::to_string(lineno));
+    } catch (const std::invalid_argument&) {
+      if (pts.empty() && lineno == 1) continue;  // header
+      throw;
+    }
+    if (int(v.size()) != d)
+      throw std::invalid_argument(path + ":" + std::to_string(lineno) + ": expected " +
+                                  std::to_string(d) + " numbers, found " + std::to_string(v.size()));
+    pts.insert(pts.end(), v.begin(), v.end());
+  }
+  return pts;
+}
+
+// Column names: psi, then d<sym> for each derivative, e.g. d/ds_x, d2/ds_x/ds_y.
+std::vector<std::string> channel_names(const Term& t) {
+  const int d = t.dim();
+  auto sym = [&](int i) { return std::string(kStrainSymbols[t.indices[i]]); };
+  std::vector<std::string> names = {"psi"};
+  for (int i = 0; i < d; ++i) names.push_back("d/d" + sym(i));
+  for (int q = 0; q < jet_num_pairs(d); ++q) {
+    JetPair e = jet_pair(d, q);
+    names.push_back("d2/d" + sym(e.i) + "/d" + sym(e.j));
+  }
+  for (int q = 0; q < jet_num_triples(d); ++q) {
+    JetTriple e = jet_triple(d, q);
+    names.push_back("d3/d" + sym(e.i) + "/d" + sym(e.j) + "/d" + sym(e.k));
+  }
+  return names;
+}
+
+}  // namespace
+
+void register_eval(CLI::App& app) {
+  struct Opts {
+    std::string model, term, points;
+    std::vector<std::string> at;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand(
+      "eval",
+      "Evaluate one term of a model at given strains. Prints CSV in physical units (J/m^2, "
+      "strains as in the spec): the strain, the energy Psi_I, its gradient, Hessian and third "
+      "derivatives with respect to the term's strain components.");
+  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--term", o->term, "The term, e.g. 02")->required();
+  cmd->add_option("--at", o->at, "A strain point: d comma-separated values (repeatable)");
+  cmd->add_option("--points", o->points, "CSV file of strain points, one per line")->check(CLI::ExistingFile);
+  cmd->callback([o] {
+    Model m = read_model(o->model);
+    const ModelNetwork* net = m.find(o->term);
+    if (!net) throw std::invalid_argument(o->model + ": no network for term '" + o->term + "'");
+    const int d = net->term.dim();
+    std::vector<double> pts;
+    for (const std::string& a : o->at) {
+      auto v = parse_numbers(a, "--at");
+      if (int(v.size()) != d)
+        throw std::invalid_argument("--at " + a + ": term " + o->term + " needs " + std::to_string(d) + " value(s)");
+      pts.insert(pts.end(), v.begin(), v.end());
+    }
+    if (!o->points.empty()) {
+      auto v = read_points_csv(o->points, d);
+      pts.insert(pts.end(), v.begin(), v.end());
+    }
+    if (pts.empty()) throw std::invalid_argument("no points: give --at or --points");
+    const int n = int(pts.size()) / d;
+    auto jet = cpu::eval_network_physical(*net, pts.data(), n, 3);
+    auto names = channel_names(net->term);
+    for (int i = 0; i < d; ++i) std::printf("%s,", kStrainSymbols[net->term.indices[i]]);
+    for (size_t c = 0; c < names.size(); ++c) std::printf("%s%s", names[c].c_str(), c + 1 < names.size() ? "," : "\n");
+    for (int p = 0; p < n; ++p) {
+      for (int i = 0; i < d; ++i) std::printf("%.17g,", pts[p * d + i]);
+      for (size_t c = 0; c < names.size(); ++c)
+        std::printf("%.17g%s", jet[c * n + p], c + 1 < names.size() ? "," : "\n");
+    }
+  });
+}
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,174 @@
+// yarnhom train-all / train: fit one MLP per energy term with the paper's recipe.
+#include <omp.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "core/dataset.hpp"
+#include "core/model.hpp"
+#include "tools/cli_util.hpp"
+#include "tools/commands.hpp"
+#include "train/trainer.hpp"
+
+namespace yarnhom::tools {
+namespace {
+
+struct TrainOpts {
+  std::string dataset, out, backend = "cpu", terms = "all", term, hidden = "16,32,16";
+  int epochs = 500, threads = 0;
+  uint64_t seed = 0;
+  double lr = 1e-3;
+  double wz = 1.0, wf = 0.05, wc = 1e-3, ws = 1e2, wx = 0.0;
+  bool stencil = false, quiet = false;
+  double stencil_eps = 1e-2;
+  int batch1 = 4, batch2 = 128, off = 50;
+};
+
+void add_common(CLI::App* cmd, TrainOpts& o) {
+  cmd->add_option("DATASET", o.dataset, "Dataset file (HDF5) written by 'produce' or 'synth'")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", o.out,
+                  "Model file to write (HDF5). Written under a temporary name and renamed at the "
+                  "end: an interrupted run never leaves a partial model or destroys an old one")
+      ->required();
+  cmd->add_option("--backend", o.backend, "Compute backend: cpu, or cuda when built with CUDA")
+      ->capture_default_str();
+  cmd->add_option("--epochs", o.epochs, "Epochs per network (the paper: 500)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--seed", o.seed,
+                  "Seed of the split, initialization, shuffling and off-domain points; the same "
+                  "seed and backend give identical weights (on the CPU for any thread count)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "CPU threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--lr", o.lr, "Initial Adam learning rate")->capture_default_str();
+  cmd->add_option("--hidden", o.hidden, "Hidden layer sizes (the paper's Net-3: 16,32,16)")
+      ->capture_default_str();
+  cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->capture_default_str();
+  cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->capture_default_str();
+  cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->capture_default_str();
+  cmd->add_option("--w-s", o.ws, "Weight of L_S (strain concentration, off-domain)")->capture_default_str();
+  cmd->add_option("--w-x", o.wx, "Weight of L_X (convexity; 0 as in the paper)")->capture_default_str();
+  cmd->add_flag("--stencil-c", o.stencil,
+                "Compute L_C with the paper's finite-difference stencil instead of exact third "
+                "derivatives");
+  cmd->add_option("--stencil-eps", o.stencil_eps, "Stencil step in normalized units")->capture_default_str();
+  cmd->add_option("--batch-1d", o.batch1, "Batch size of 1D terms")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--batch-2d", o.batch2, "Batch size of 2D terms")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--off-domain", o.off, "Fresh off-domain points per batch for L_S")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("-q,--quiet", o.quiet, "No live progress, only the final table");
+}
+
+// Live progress: on a terminal, one line per network redrawn in place (at most 5 times a
+// second); otherwise a block of lines at every tenth of the run.
+class Progress {
+ public:
+  Progress(bool quiet, size_t nets) : quiet_(quiet), tty_(stderr_is_tty()), nets_(nets) { t0_ = omp_get_wtime(); }
+
+  void operator()(int epoch, int epochs, const std::vector<ProgressRow>& rows) {
+    if (quiet_) return;
+    const double now = omp_get_wtime(), el = now - t0_;
+    const bool last = epoch == epochs;
+    if (tty_) {
+      if (!last && now - last_draw_ < 0.2) return;
+    } else {
+      const int step = std::max(1, epochs / 10);
+      if (!last && epoch % step != 0) return;
+    }
+    last_draw_ = now;
+    const double eta = el / epoch * (epochs - epoch);
+    if (tty_ && drawn_) std::fprintf(stderr, "\x1b[%zuA", rows.size() + 1);
+    std::fprintf(stderr, "%sepoch %d/%d  elapsed %s  ETA %s\n", tty_ ? "\x1b[2K" : "", epoch,
+                 epochs, format_seconds(el).c_str(), format_seconds(eta).c_str());
+    for (const ProgressRow& r : rows) {
+      std::fprintf(stderr, "%s  %-3s epoch %4d  train %.3e  val %.3e  (Z %.2e F %.2e C %.2e S %.2e)  lr %.2e  %s\n",
+                   tty_ ? "\x1b[2K" : "", r.name.c_str(), r.epochs_done, r.stats.train.total,
+                   r.stats.val.total, r.stats.train.z, r.stats.train.f, r.stats.train.c,
+                   r.stats.train.s, r.lr, r.status == "ok" ? "" : r.status.c_str());
+    }
+    drawn_ = true;
+  }
+
+ private:
+  bool quiet_, tty_, drawn_ = false;
+  size_t nets_;
+  double t0_, last_draw_ = -1;
+};
+
+// terms empty: every term the dataset has.
+void run_training(const TrainOpts& o, std::vector<Term> terms) {
+  Dataset ds = read_dataset(o.dataset);
+  if (terms.empty())
+    for (auto& t : ds.terms) terms.push_back(t.term);
+  TrainerOptions opt;
+  opt.seed = o.seed;
+  opt.net.hidden = parse_ints(o.hidden, "--hidden");
+  opt.batch_1d = o.batch1;
+  opt.batch_2d = o.batch2;
+  opt.config.epochs = o.epochs;
+  opt.config.threads = o.threads > 0 ? o.threads : default_threads();
+  opt.config.adam.lr = o.lr;
+  opt.config.off_domain = o.off;
+  opt.config.loss.w = LossWeights{o.wz, o.wf, o.wc, o.ws, o.wx};
+  opt.config.loss.stencil_c = o.stencil;
+  opt.config.loss.stencil_eps = o.stencil_eps;
+  auto backend = make_backend(o.backend);
+  for (const Term& t : terms)
+    if (!ds.find(t.name))
+      throw std::invalid_argument(o.dataset + ": the dataset has no term '" + t.name + "'");
+  std::fprintf(stderr, "training %zu network(s) on %s (%s data) with backend %s, %d thread(s), %d epochs\n",
+               terms.size(), o.dataset.c_str(), ds.source.c_str(), backend->name().c_str(),
+               opt.config.threads, o.epochs);
+  Progress progress(o.quiet, terms.size());
+  const double t0 = omp_get_wtime();
+  TrainResult res = train_terms(ds, o.dataset, terms, opt, *backend, std::ref(progress));
+  const double wall = omp_get_wtime() - t0;
+
+  std::printf("%-5s %12s %12s %7s %9s  %s\n", "term", "train loss", "val loss", "epochs", "time", "status");
+  for (size_t j = 0; j < res.rows.size(); ++j) {
+    const ProgressRow& r = res.rows[j];
+    std::printf("%-5s %12.4e %12.4e %7d %9s  %s\n", r.name.c_str(), r.stats.train.total,
+                r.stats.val.total, r.epochs_done, format_seconds(res.seconds[j]).c_str(), r.status.c_str());
+  }
+  std::printf("total wall time %s (per-network times are compute time; networks ran in parallel)\n",
+              format_seconds(wall).c_str());
+  if (res.model.networks.empty()) {
+    std::fprintf(stderr, "yarnhom: error: no network trained successfully; %s not written\n", o.out.c_str());
+    throw ExitCode{2};
+  }
+  write_model(o.out, res.model);
+  std::printf("wrote %s (%zu network(s))\n", o.out.c_str(), res.model.networks.size());
+  if (!res.all_ok()) {
+    std::fprintf(stderr, "yarnhom: error: some networks failed (see the status column); the model holds the others\n");
+    throw ExitCode{2};
+  }
+}
+
+}  // namespace
+
+void register_train(CLI::App& app) {
+  auto oa = std::make_shared<TrainOpts>();
+  auto* all = app.add_subcommand(
+      "train-all",
+      "Train every energy term of a dataset (one MLP per term, the paper's recipe: Adam 1e-3, "
+      "plateau schedule, 500 epochs, batch 4 (1D) / 128 (2D)), networks in parallel, and write "
+      "the model file. Exit status 2 if a network failed (its loss became non-finite).");
+  add_common(all, *oa);
+  all->add_option("--terms", oa->terms, "Terms to train, e.g. 0,02,15 (default: all in the dataset)")
+      ->capture_default_str();
+  all->callback([oa] {
+    run_training(*oa, oa->terms == "all" ? std::vector<Term>{} : parse_term_list(oa->terms));
+  });
+
+  auto o1 = std::make_shared<TrainOpts>();
+  auto* one = app.add_subcommand("train", "Train one energy term's network (see train-all for the recipe)");
+  add_common(one, *o1);
+  one->add_option("--term", o1->term, "The term, e.g. 02")->required();
+  one->callback([o1] { run_training(*o1, {term_by_name(o1->term)}); });
+}
+
+}  // namespace yarnhom::tools

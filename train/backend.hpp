@@ -1,0 +1,65 @@
+#pragma once
+// The one interface between the trainer and a compute backend (CPU now, CUDA behind the same
+// calls). The trainer prepares each network's problem (normalized data, split, initial
+// weights) and owns the schedule (epochs, learning rates, history); a backend owns the
+// weights and optimizer state for the whole run and executes whole epochs: shuffling,
+// batching, off-domain sampling, forward, losses, backward, Adam, validation. The trainer
+// never touches the weights between epochs, so a device backend synchronizes with the host
+// once per epoch (to return the losses that drive the plateau schedule).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/network.hpp"
+#include "cpu/adam.hpp"
+#include "cpu/loss_step.hpp"
+
+namespace yarnhom {
+
+// One network's training problem, in normalized units (float, row-major).
+struct NetworkJob {
+  std::string name;
+  NetworkDesc desc;
+  uint64_t key = 0;              // the network's random stream key (core/rng.hpp)
+  int batch_size = 4;
+  int n_train = 0, n_val = 0;
+  std::vector<float> x_train, y_train, g_train;  // [n, d], [n], [n, d]
+  std::vector<float> x_val, y_val, g_val;
+  std::vector<float> xo_val, no_val;             // fixed validation off-domain points [k, d]
+  std::vector<float> init_params;
+};
+
+struct TrainConfig {
+  cpu::LossOptions loss;
+  cpu::AdamParams adam;   // adam.lr is the initial rate
+  int epochs = 500;
+  int off_domain = 50;    // fresh off-domain points per batch
+  int val_off_domain = 256;
+  int threads = 1;
+};
+
+// Means over the epoch's batches of each loss term (train), and the validation losses.
+struct EpochStats {
+  cpu::LossValues train, val;
+  double seconds = 0;  // compute time the backend spent on this network this epoch
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string name() const = 0;
+  // Takes the problems and the initial weights; allocates everything for the run.
+  virtual void setup(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg) = 0;
+  // One epoch (0-based) of every network j with active[j], at learning rate lr[j].
+  virtual void run_epoch(int epoch, const std::vector<double>& lr, const std::vector<char>& active,
+                         std::vector<EpochStats>& stats) = 0;
+  // The current weights of network j.
+  virtual std::vector<float> params(int j) = 0;
+};
+
+// "cpu", or "cuda" when built with CUDA; throws std::invalid_argument naming the choices.
+std::unique_ptr<Backend> make_backend(const std::string& name);
+std::vector<std::string> available_backends();
+
+}  // namespace yarnhom

@@ -1,0 +1,181 @@
+#include "train/trainer.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/offdomain.hpp"
+#include "core/rng.hpp"
+
+namespace yarnhom {
+
+bool TrainResult::all_ok() const {
+  for (const ProgressRow& r : rows)
+    if (r.status != "ok") return false;
+  return true;
+}
+
+namespace {
+
+int catalogue_index(const Term& t) {
+  const auto& all = all_terms();
+  for (size_t i = 0; i < all.size(); ++i)
+    if (all[i].name == t.name) return int(i);
+  throw std::invalid_argument("unknown term " + t.name);
+}
+
+// PyTorch's nn.Linear default initialization: W and b uniform in +-1/sqrt(fan_in).
+std::vector<float> init_params(const NetworkDesc& desc, uint64_t key) {
+  std::vector<float> p(desc.num_params());
+  const uint64_t k = rng_key(key, kRngInit);
+  uint64_t counter = 0;
+  for (int l = 0; l < desc.num_layers(); ++l) {
+    const double bound = 1.0 / std::sqrt(double(desc.layer_in(l)));
+    const int n = desc.layer_out(l) * (desc.layer_in(l) + 1);
+    for (int i = 0; i < n; ++i)
+      p[desc.weight_offset(l) + i] = float(bound * (2.0 * rng_uniform(k, counter++) - 1.0));
+  }
+  return p;
+}
+
+}  // namespace
+
+NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm_out) {
+  const int d = data.dim(), n = data.n;
+  NetworkJob job;
+  job.name = data.term.name;
+  job.desc = opt.net;
+  job.desc.input_dim = d;
+  job.desc.validate();
+  job.key = rng_key(opt.seed, uint64_t(catalogue_index(data.term)));
+  job.batch_size = d == 1 ? opt.batch_1d : opt.batch_2d;
+
+  // Seeded split: a permutation; the first n_val indices validate.
+  std::vector<int> perm(n);
+  for (int i = 0; i < n; ++i) perm[i] = i;
+  const uint64_t sk = rng_key(job.key, kRngSplit);
+  for (int i = n - 1; i > 0; --i) std::swap(perm[i], perm[int(rng_uniform(sk, i) * (i + 1))]);
+  int n_val = int(std::lround(opt.val_fraction * n));
+  n_val = std::clamp(n_val, 1, n - 1);
+  job.n_val = n_val;
+  job.n_train = n - n_val;
+
+  Normalization norm;
+  for (int k = 0; k < d; ++k) {
+    norm.center.push_back(0.5 * (data.lower[k] + data.upper[k]));
+    norm.halfwidth.push_back(0.5 * (data.upper[k] - data.lower[k]));
+  }
+  double mean = 0, var = 0;
+  for (int i = n_val; i < n; ++i) mean += data.energy[perm[i]];
+  mean /= job.n_train;
+  for (int i = n_val; i < n; ++i) var += (data.energy[perm[i]] - mean) * (data.energy[perm[i]] - mean);
+  double sd = std::sqrt(var / job.n_train);
+  // A term that is identically constant on its training points has nothing to scale by.
+  if (!(sd > 0) || !std::isfinite(sd)) sd = 1.0;
+  norm.out_mean = mean;
+  norm.out_std = sd;
+
+  auto fill = [&](int from, int to, std::vector<float>& x, std::vector<float>& y, std::vector<float>& g) {
+    for (int i = from; i < to; ++i) {
+      const int s = perm[i];
+      y.push_back(float((data.energy[s] - mean) / sd));
+      for (int k = 0; k < d; ++k) {
+        x.push_back(float((data.strain[s * d + k] - norm.center[k]) / norm.halfwidth[k]));
+        g.push_back(float(data.gradient[s * d + k] * norm.halfwidth[k] / sd));
+      }
+    }
+  };
+  fill(0, n_val, job.x_val, job.y_val, job.g_val);
+  fill(n_val, n, job.x_train, job.y_train, job.g_train);
+
+  const int kv = opt.config.val_off_domain;
+  job.xo_val.resize(size_t(kv) * d);
+  job.no_val.resize(size_t(kv) * d);
+  const uint64_t vk = rng_key(job.key, kRngValOffDomain);
+  for (int j = 0; j < kv; ++j) offdomain_point<float>(d, vk, j, &job.xo_val[j * d], &job.no_val[j * d]);
+  job.init_params = init_params(job.desc, job.key);
+  if (norm_out) *norm_out = norm;
+  return job;
+}
+
+TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
+                        const std::vector<Term>& terms, const TrainerOptions& opt, Backend& backend,
+                        const ProgressFn& progress) {
+  std::vector<NetworkJob> jobs;
+  std::vector<Normalization> norms;
+  std::vector<const TermData*> datas;
+  for (const Term& t : terms) {
+    const TermData* td = ds.find(t.name);
+    if (!td) throw std::invalid_argument(dataset_path + ": the dataset has no term '" + t.name + "'");
+    Normalization norm;
+    jobs.push_back(make_job(*td, opt, &norm));
+    norms.push_back(norm);
+    datas.push_back(td);
+  }
+  backend.setup(jobs, opt.config);
+
+  const size_t J = jobs.size();
+  std::vector<ReduceLROnPlateau> sched;
+  for (size_t j = 0; j < J; ++j) sched.emplace_back(opt.config.adam.lr, opt.plateau);
+  std::vector<double> lr(J, opt.config.adam.lr);
+  std::vector<char> active(J, 1);
+  std::vector<History> hist(J);
+  TrainResult res;
+  res.rows.resize(J);
+  res.seconds.assign(J, 0.0);
+  for (size_t j = 0; j < J; ++j) res.rows[j].name = jobs[j].name;
+  std::vector<EpochStats> stats;
+
+  for (int e = 0; e < opt.config.epochs; ++e) {
+    backend.run_epoch(e, lr, active, stats);
+    bool any = false;
+    for (size_t j = 0; j < J; ++j) {
+      if (!active[j]) continue;
+      const EpochStats& st = stats[j];
+      res.seconds[j] += st.seconds;
+      ProgressRow& row = res.rows[j];
+      row.stats = st;
+      row.lr = lr[j];
+      row.epochs_done = e + 1;
+      if (!std::isfinite(st.train.total) || !std::isfinite(st.val.total)) {
+        row.status = "non-finite loss at epoch " + std::to_string(e + 1);
+        row.active = false;
+        active[j] = 0;
+        continue;
+      }
+      History& h = hist[j];
+      h.train_loss.push_back(st.train.total);
+      h.val_loss.push_back(st.val.total);
+      h.lr.push_back(lr[j]);
+      h.loss_z.push_back(st.train.z);
+      h.loss_f.push_back(st.train.f);
+      h.loss_c.push_back(st.train.c);
+      h.loss_s.push_back(st.train.s);
+      lr[j] = sched[j].step(st.val.total);
+      any = true;
+    }
+    if (progress) progress(e + 1, opt.config.epochs, res.rows);
+    if (!any) break;
+  }
+
+  res.model.dataset = dataset_path;
+  res.model.seed = opt.seed;
+  for (size_t j = 0; j < J; ++j) {
+    res.rows[j].active = false;
+    if (res.rows[j].status != "ok") continue;
+    ModelNetwork n;
+    n.term = datas[j]->term;
+    n.lower = datas[j]->lower;
+    n.upper = datas[j]->upper;
+    n.desc = jobs[j].desc;
+    n.params = backend.params(int(j));
+    n.norm = norms[j];
+    n.weights = opt.config.loss.w;
+    n.epochs = res.rows[j].epochs_done;
+    n.backend = backend.name();
+    n.history = std::move(hist[j]);
+    res.model.networks.push_back(std::move(n));
+  }
+  return res;
+}
+
+}  // namespace yarnhom

@@ -1,0 +1,53 @@
+#pragma once
+// The trainer: from a dataset to a model. For each selected term it prepares the problem
+// (seeded 90/10 split, normalization to [-1,1]^d and unit-variance energies, PyTorch's default
+// initialization, fixed validation off-domain points), then drives a backend epoch by epoch
+// with ReduceLROnPlateau on the validation loss, records the history, and stops a network
+// whose loss becomes non-finite (the others go on).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/dataset.hpp"
+#include "core/model.hpp"
+#include "train/backend.hpp"
+#include "train/plateau.hpp"
+
+namespace yarnhom {
+
+struct TrainerOptions {
+  TrainConfig config;
+  PlateauParams plateau;
+  NetworkDesc net;           // hidden sizes and activation; input_dim set per term
+  uint64_t seed = 0;
+  int batch_1d = 4, batch_2d = 128;
+  double val_fraction = 0.1;
+};
+
+// Progress after each epoch: per network (in job order) its name, the epoch's stats, the
+// learning rate, and whether it is still training.
+struct ProgressRow {
+  std::string name;
+  EpochStats stats;
+  double lr = 0;
+  int epochs_done = 0;
+  bool active = true;
+  std::string status = "ok";
+};
+using ProgressFn = std::function<void(int epoch, int epochs, const std::vector<ProgressRow>&)>;
+
+struct TrainResult {
+  Model model;                 // networks that trained to the end, in catalogue order
+  std::vector<ProgressRow> rows;  // final row per network, failed ones included
+  std::vector<double> seconds;    // wall time attributed to each network (share of epochs)
+  bool all_ok() const;
+};
+
+// The problem of one term: exposed for tests and for the reference checks.
+NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm);
+
+TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
+                        const std::vector<Term>& terms, const TrainerOptions& opt,
+                        Backend& backend, const ProgressFn& progress = {});
+
+}  // namespace yarnhom
