@@ -1,0 +1,69 @@
+#pragma once
+// The evaluator of baked tables: value, gradient and Hessian (and third derivatives, for plots
+// and checks) of one term at any strain, inside the box (Hermite interpolation) or outside it
+// (the safeguard). This is what a cloth simulator links: it depends only on Eigen and on the
+// baked format (core/baked.hpp), never on the networks or the training code.
+//
+// Inside the box. 1D: cubic Hermite on each cell from (f, f') at its two knots. 2D: bicubic
+// Hermite from (f, f_x, f_y, f_xy) at the cell's four knots; C1 across cells.
+//
+// Outside (spec section 8; docs/bake.md). Let xc = clamp(x, box) and dx = x - xc per axis, and
+// D_ij = d^(i+j) p / dx^i dy^j the one-sided partials of the table p at xc (from the cell that
+// contains xc). Then
+//   1D:        F = D_0 + D_1 dx + D_2 dx^2/2                     (C2: matches f, f', f'')
+//   edge band: F = sum_{i<=2} D_i0(y) dx^i / i!   (one axis outside; D along the edge varies)
+//   corner:    F = the second-order Taylor expansion at the corner
+//                  + D_21 dx^2 dy/2 + D_12 dx dy^2/2
+// The two cubic corner terms are what C1 across the corner/edge-band borders needs: on the
+// border dy = 0 the edge band's dF/dy is D_01 + D_11 dx + D_21 dx^2/2, so a pure Taylor
+// corner would leave a gradient jump of D_21 dx^2/2 wherever the edge curvature varies along
+// the edge. The whole extension is C1 (C2 in 1D) with the table; its third derivatives are 0
+// in 1D and in a corner constant.
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "core/baked.hpp"
+
+namespace yarnhom {
+
+// One term ready to evaluate: the table re-expressed as per-cell power-basis coefficients.
+struct BakedTerm {
+  Term term;
+  int dim = 1;
+  double lo[2] = {0, 0}, hi[2] = {0, 0}, inv_h[2] = {1, 1};
+  int n[2] = {1, 1};             // knots per axis
+  std::vector<double> coef;      // 1D: [n0-1][4] in u^k; 2D: [n0-1][n1-1][4][4] in u^k v^l
+};
+
+// Builds the evaluator. Throws std::invalid_argument if the table is malformed, or if its
+// stored safeguard coefficients disagree with the ones the knots imply (a corrupt or hand-
+// edited file); `file` names it in the message.
+BakedTerm make_baked_term(const BakedTable& table, const std::string& file = "");
+
+// Safeguard coefficients implied by the table's knots (what write_baked stores).
+void compute_safeguard(BakedTable& table);
+
+// Sector of a point: 0 inside the box. 1D: 1 below, 2 above. 2D: 1 x-lower band, 2 x-upper,
+// 3 y-lower, 4 y-upper, 5..8 corners in the order of kBakedCornerNames. Points on the box
+// boundary count as inside.
+int baked_sector(const BakedTerm& t, const double* s);
+
+// 1D: value, first and second derivative.
+struct BakedJet1 {
+  double f, df, d2f;
+};
+BakedJet1 eval_baked_1d(const BakedTerm& t, double x);
+
+// 2D: value, gradient, Hessian. The fast path a simulator calls.
+struct BakedJet2 {
+  double f;
+  Eigen::Vector2d g;
+  Eigen::Matrix2d H;
+};
+BakedJet2 eval_baked_2d(const BakedTerm& t, const Eigen::Vector2d& s);
+
+// Every channel up to `order` (<= 3) in the layout of core/jet_layout.hpp, any dimension.
+void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out);
+
+}  // namespace yarnhom
