@@ -1,0 +1,115 @@
+#include "yarn/newton.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace yarnhom::yarn {
+
+const char* to_string(SolveStatus s) {
+  switch (s) {
+    case SolveStatus::kConverged: return "converged";
+    case SolveStatus::kMaxIterations: return "max_iterations";
+    case SolveStatus::kLineSearchFailed: return "line_search_failed";
+    case SolveStatus::kNonFinite: return "non_finite";
+  }
+  return "unknown";
+}
+
+std::string SolveReport::summary() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s after %d iterations, residual %.3g, energy %.9g J, %.3f s",
+                to_string(status), iterations, residual, energy, seconds);
+  return buf;
+}
+
+double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad) {
+  if (grad.size() == 0) return 0.0;
+  const double rms = grad.cwiseProduct(rve.force_scale()).norm() / std::sqrt(double(grad.size()));
+  return rms / rve.stretch_stiffness();
+}
+
+SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const SolveOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SolveReport rep;
+  const int N = rve.num_dofs();
+  Eigen::VectorXd g(N), d(N);
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::SparseMatrix<double> H(N, N);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<int> last_outer, last_inner;
+  double mu = 0.0;
+  auto finish = [&](SolveStatus status) {
+    rep.status = status;
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return rep;
+  };
+  for (int it = 0;; ++it) {
+    trip.clear();
+    const double E = rve.evaluate(s, st, &g, &trip);
+    rep.energy = E;
+    rep.residual = relative_residual(rve, g);
+    rep.iterations = it;
+    if (!std::isfinite(E) || !std::isfinite(rep.residual)) return finish(SolveStatus::kNonFinite);
+    if (opt.verbose) std::fprintf(stderr, "  newton %3d  E %.12g  residual %.3e  mu %.1e\n", it, E, rep.residual, mu);
+    if (rep.residual <= opt.tolerance) return finish(SolveStatus::kConverged);
+    if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);
+
+    H.setFromTriplets(trip.begin(), trip.end());
+    H.makeCompressed();
+    const bool same = last_outer.size() == size_t(N + 1) &&
+                      std::equal(last_outer.begin(), last_outer.end(), H.outerIndexPtr()) &&
+                      last_inner.size() == size_t(H.nonZeros()) &&
+                      std::equal(last_inner.begin(), last_inner.end(), H.innerIndexPtr());
+    if (!same) {
+      ldlt.analyzePattern(H);
+      ++rep.analyses;
+      last_outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + N + 1);
+      last_inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
+    }
+    const Eigen::VectorXd diag = H.diagonal().cwiseAbs().cwiseMax(1e-300);
+    Eigen::SparseMatrix<double> Hs;
+    mu = mu < 1e-8 ? 0.0 : mu / 10;
+    for (int tries = 0;; ++tries) {
+      const Eigen::SparseMatrix<double>* M = &H;
+      if (mu > 0) {
+        Hs = H;
+        for (int i = 0; i < N; ++i) Hs.coeffRef(i, i) += mu * diag[i];
+        M = &Hs;
+      }
+      ldlt.factorize(*M);
+      bool ok = ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all();
+      if (ok) {
+        d = ldlt.solve(-g);
+        ok = d.allFinite() && g.dot(d) < 0;
+      }
+      if (ok) break;
+      if (tries > 40) return finish(SolveStatus::kNonFinite);
+      mu = mu == 0 ? 1e-8 : mu * 10;
+    }
+    if (mu > 0) ++rep.shifted;
+
+    // Armijo backtracking on the energy. Once the predicted decrease is at round-off level of
+    // E, energy comparisons carry no information: the full Newton step is taken then.
+    const double slope = g.dot(d);
+    double alpha = 1.0;
+    bool accepted = false;
+    for (int ls = 0; ls < 40; ++ls) {
+      RveState trial = st;
+      rve.apply_step(d, alpha, trial);
+      const double Et = rve.evaluate(s, trial, nullptr, nullptr);
+      if (std::isfinite(Et) && (Et <= E + 1e-4 * alpha * slope || -slope < 1e-13 * std::abs(E))) {
+        st = std::move(trial);
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) return finish(SolveStatus::kLineSearchFailed);
+    rve.update_frames(s, st);
+  }
+}
+
+}  // namespace yarnhom::yarn

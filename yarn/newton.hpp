@@ -1,0 +1,49 @@
+#pragma once
+// Newton's method with a backtracking line search for the RVE equilibrium at a strain s.
+//
+// Each iteration assembles the exact sparse Hessian in the reduced unknowns and factors it
+// with Eigen's SimplicialLDLT, reusing the symbolic analysis while the sparsity pattern stays
+// the same. Definiteness fix: when the factorization fails or has a non-positive pivot (the
+// Hessian is indefinite away from a minimum), the diagonal is raised to H + mu diag(|H_ii|)
+// with mu growing tenfold until the factorization is positive definite (a Levenberg-style
+// shift, scale-free because it is relative to each dof's own stiffness); mu starts each
+// iteration at a tenth of the last one used, so near the minimum it falls to zero and the
+// iteration is plain Newton with quadratic convergence. The step then decreases the energy
+// (Armijo backtracking). Convergence: the residual, the RMS of the gradient with twist
+// moments divided by the yarn radius (forces), relative to the stretching stiffness EA,
+// falls below `tolerance`.
+#include <string>
+
+#include "yarn/rve.hpp"
+
+namespace yarnhom::yarn {
+
+struct SolveOptions {
+  double tolerance = 1e-10;  // on the relative residual (see above)
+  int max_iterations = 200;
+  bool verbose = false;      // one line per iteration on stderr
+};
+
+enum class SolveStatus { kConverged, kMaxIterations, kLineSearchFailed, kNonFinite };
+const char* to_string(SolveStatus s);
+
+struct SolveReport {
+  SolveStatus status = SolveStatus::kMaxIterations;
+  int iterations = 0;
+  double residual = 0;   // relative residual at the end
+  double energy = 0;     // J
+  double seconds = 0;
+  int shifted = 0;       // iterations that needed the definiteness shift
+  int analyses = 0;      // symbolic factorizations done
+  bool converged() const { return status == SolveStatus::kConverged; }
+  std::string summary() const;
+};
+
+// Relative residual of a reduced gradient (see above).
+double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad);
+
+// Minimizes the energy at s starting from `state` (any state: cold from the pattern or warm
+// from a neighbouring strain), which holds the result on return whatever the status.
+SolveReport solve(const RveProblem& rve, const Strain& s, RveState& state, const SolveOptions& opt = {});
+
+}  // namespace yarnhom::yarn

@@ -1,0 +1,373 @@
+#include "yarn/rve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "yarn/frames.hpp"
+
+namespace yarnhom::yarn {
+
+Eigen::VectorXd RveState::packed() const {
+  const int n = static_cast<int>(u.size());
+  Eigen::VectorXd q(4 * n);
+  for (int v = 0; v < n; ++v) {
+    q.segment<3>(4 * v) = u[v];
+    q[4 * v + 3] = theta[v];
+  }
+  return q;
+}
+
+struct RveProblem::Node {
+  Eigen::Vector3d x;
+  Eigen::Matrix3d J;                 // dx / d(reduced dofs of the vertex), first npos columns
+  Eigen::Matrix<double, 3, 6> dxds;  // dx / ds at fixed u (only when asked)
+};
+
+RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options)
+    : p_(std::move(pattern)), m_(material), opt_(options) {
+  const int n = p_.size();
+  if (n < 2 || static_cast<int>(p_.rest_length.size()) != n)
+    throw std::invalid_argument("RVE: pattern '" + p_.name + "' is incomplete (no rest state)");
+  topo_ = topology(p_);
+  const double r = p_.radius;
+  EA_ = m_.young * M_PI * r * r;
+  EI_ = m_.young * M_PI * r * r * r * r / 4.0;
+  GJ_ = m_.shear * M_PI * r * r * r * r / 2.0;
+  contact_ = {r, m_.contact_stiffness * r, opt_.contact_quadrature};
+
+  // Zero modes (docs/rve.md): the whole RVE's translation (pin every component of the first
+  // vertex of yarn 0: this also stops yarn 0 sliding along itself); every other yarn's sliding
+  // along itself (pin the tangential component of its first vertex; optional); the uniform
+  // rotation of all twist angles of a yarn whose rest curvatures all vanish (pin one angle).
+  npos_.assign(n, 3);
+  basis_.assign(n, Eigen::Matrix3d::Identity());
+  pinned_vertex_ = topo_.yarns[0][0];
+  npos_[pinned_vertex_] = 0;
+  basis_[pinned_vertex_].setZero();
+  for (size_t y = 1; y < topo_.yarns.size() && m_.slide_constraint; ++y) {
+    const int v = topo_.yarns[y][0];
+    const Eigen::Vector3d t =
+        (stored_edge(p_, topo_, topo_.prev[v]).normalized() + stored_edge(p_, topo_, v).normalized()).normalized();
+    // Two unit vectors perpendicular to the yarn: the vertex may move across, not along it.
+    Eigen::Vector3d a = std::abs(t[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d b1 = (a - a.dot(t) * t).normalized(), b2 = t.cross(b1);
+    basis_[v].setZero();
+    basis_[v].col(0) = b1;
+    basis_[v].col(1) = b2;
+    npos_[v] = 2;
+    slide_pinned_.push_back(v);
+  }
+  theta_index_.assign(n, -1);
+  std::vector<bool> theta_free(n, true);
+  for (const auto& yarn : topo_.yarns) {
+    bool straight = true;
+    for (int v : yarn) straight = straight && p_.rest_kappa[v].isZero(0.0);
+    if (straight) {
+      theta_free[yarn[0]] = false;
+      twist_pinned_.push_back(yarn[0]);
+    }
+  }
+  pos_index_.assign(n, -1);
+  std::vector<double> scale;
+  for (int v = 0; v < n; ++v) {
+    pos_index_[v] = ndof_;
+    for (int c = 0; c < npos_[v]; ++c) scale.push_back(1.0);
+    ndof_ += npos_[v];
+    if (theta_free[v]) {
+      theta_index_[v] = ndof_++;
+      scale.push_back(1.0 / r);
+    }
+  }
+  scale_ = Eigen::Map<Eigen::VectorXd>(scale.data(), scale.size());
+
+  // Same-yarn segment pairs too close along the yarn to touch without bending sharper than the
+  // yarn's own radius (rest arc gap below exclusion_arc * r), with the tile offset at which
+  // the later one lies.
+  for (int v = 0; v < n; ++v) {
+    const int len = static_cast<int>(topo_.yarns[topo_.yarn_of[v]].size());
+    Eigen::Vector2i o = topo_.offset[v];
+    double gap = 0;
+    int w = topo_.next[v];
+    for (int j = 1; j <= len && gap < opt_.exclusion_arc * r; ++j) {
+      if (!(w == v && o.isZero())) excluded_.insert(pair_key(v, w, o));
+      gap += p_.rest_length[w];
+      o += topo_.offset[w];
+      w = topo_.next[w];
+    }
+  }
+}
+
+uint64_t RveProblem::pair_key(int a, int b, Eigen::Vector2i o) {
+  if (a > b || (a == b && (o[0] < 0 || (o[0] == 0 && o[1] < 0)))) {
+    std::swap(a, b);
+    o = -o;
+  }
+  return (uint64_t(a) << 40) | (uint64_t(b) << 16) | (uint64_t(o[0] + 128) << 8) | uint64_t(o[1] + 128);
+}
+
+bool RveProblem::excluded(int a, int b, Eigen::Vector2i o) const {
+  return (a == b && o.isZero()) || excluded_.count(pair_key(a, b, o)) > 0;
+}
+
+RveState RveProblem::initial_state() const {
+  const int n = p_.size();
+  RveState st;
+  st.u.assign(n, Eigen::Vector3d::Zero());
+  st.theta = p_.theta;
+  st.frames.edge.resize(n);
+  st.frames.twist.resize(n);
+  for (int v = 0; v < n; ++v) {
+    const Eigen::Vector3d t = stored_edge(p_, topo_, v).normalized();
+    Eigen::Vector3d d = p_.ref_d1[v] - p_.ref_d1[v].dot(t) * t;  // the file's are rounded
+    st.frames.edge[v] = {t, d.normalized()};
+  }
+  for (int v = 0; v < n; ++v) {
+    const int a = topo_.prev[v];
+    st.frames.twist[v] = reference_twist(st.frames.edge[a].t, st.frames.edge[a].d1,
+                                         st.frames.edge[v].t, st.frames.edge[v].d1, p_.ref_twist[v]);
+  }
+  return st;
+}
+
+RveProblem::Node RveProblem::node(const Strain& s, const RveState& st, int v, Eigen::Vector2i o,
+                                  bool want_ds) const {
+  const double xi1 = p_.x[v][0] + o[0] * p_.px, xi2 = p_.x[v][1] + o[1] * p_.py, h = p_.x[v][2];
+  const ShellPoint<double> sp = shell_map(s.data(), xi1, xi2, h);
+  Node nd;
+  const V3<double> x = sp.apply(st.u[v]);
+  nd.x = Eigen::Vector3d(x.x, x.y, x.z);
+  Eigen::Matrix3d R;
+  for (int c = 0; c < 3; ++c) R.col(c) = Eigen::Vector3d(sp.R[c].x, sp.R[c].y, sp.R[c].z);
+  nd.J = R * basis_[v];
+  if (want_ds) {
+    Jet<6> sj[6];
+    for (int k = 0; k < 6; ++k) sj[k] = Jet<6>::variable(k, s[k]);
+    const V3<Jet<6>> xj = shell_map(sj, xi1, xi2, h).apply(st.u[v]);
+    nd.dxds.row(0) = xj.x.g.transpose();
+    nd.dxds.row(1) = xj.y.g.transpose();
+    nd.dxds.row(2) = xj.z.g.transpose();
+  }
+  return nd;
+}
+
+Eigen::Vector3d RveProblem::position(const Strain& s, const RveState& st, int v, Eigen::Vector2i o) const {
+  return node(s, st, v, o, false).x;
+}
+
+std::vector<Eigen::Vector3d> RveProblem::positions(const Strain& s, const RveState& st) const {
+  std::vector<Eigen::Vector3d> x(p_.size());
+  for (int v = 0; v < p_.size(); ++v) x[v] = position(s, st, v, Eigen::Vector2i::Zero());
+  return x;
+}
+
+template <int M>
+void RveProblem::scatter(int nslots, const Node* const* nodes, const int* verts, int nth,
+                         const int* thv, const Eigen::Matrix<double, M, 1>& gl,
+                         const Eigen::Matrix<double, M, M>* Hl, Eigen::VectorXd* grad,
+                         std::vector<Eigen::Triplet<double>>* hess, Strain* dEds) const {
+  if (dEds)
+    for (int a = 0; a < nslots; ++a) *dEds += nodes[a]->dxds.transpose() * gl.template segment<3>(3 * a);
+  if (!grad && !hess) return;
+  // P maps the reduced dofs this element touches to its local coordinates.
+  int idx[M];
+  Eigen::Matrix<double, M, M> P = Eigen::Matrix<double, M, M>::Zero();
+  int k = 0;
+  for (int a = 0; a < nslots; ++a) {
+    const int v = verts[a];
+    for (int c = 0; c < npos_[v]; ++c, ++k) {
+      idx[k] = pos_index_[v] + c;
+      P.template block<3, 1>(3 * a, k) = nodes[a]->J.col(c);
+    }
+  }
+  for (int j = 0; j < nth; ++j) {
+    const int ti = theta_index_[thv[j]];
+    if (ti < 0) continue;
+    idx[k] = ti;
+    P(3 * nslots + j, k) = 1.0;
+    ++k;
+  }
+  if (grad) {
+    const Eigen::Matrix<double, M, 1> gr = P.transpose() * gl;
+    for (int i = 0; i < k; ++i) (*grad)[idx[i]] += gr[i];
+  }
+  if (hess && Hl) {
+    const Eigen::Matrix<double, M, M> Hr = P.transpose() * (*Hl) * P;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) hess->emplace_back(idx[i], idx[j], Hr(i, j));
+  }
+}
+
+std::vector<RveProblem::Pair> RveProblem::contact_pairs(const Strain& s, const RveState& st,
+                                                        double margin) const {
+  const int n = p_.size();
+  const double reach = 2.0 * p_.radius + margin;  // centreline distance that may interact
+  struct Box {
+    Eigen::Vector3d lo, hi;
+  };
+  auto seg_box = [&](int v, Eigen::Vector2i o) {
+    const Eigen::Vector3d a = position(s, st, v, o), b = position(s, st, topo_.next[v], o + topo_.offset[v]);
+    return Box{a.cwiseMin(b), a.cwiseMax(b)};
+  };
+  std::vector<Box> base(n);
+  Box all{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
+  double cell = reach;
+  for (int v = 0; v < n; ++v) {
+    base[v] = seg_box(v, Eigen::Vector2i::Zero());
+    all.lo = all.lo.cwiseMin(base[v].lo);
+    all.hi = all.hi.cwiseMax(base[v].hi);
+    cell = std::max(cell, (base[v].hi - base[v].lo).maxCoeff() + reach);
+  }
+  // Hash grid of the base tile's segments, cells at least one segment + reach wide, so each
+  // box (inflated by reach) touches at most 2 cells per axis.
+  auto cell_of = [&](double x) { return static_cast<int64_t>(std::floor(x / cell)); };
+  auto key = [](int64_t i, int64_t j, int64_t k) {
+    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);
+  };
+  std::unordered_map<int64_t, std::vector<int>> grid;
+  grid.reserve(4 * n);
+  for (int v = 0; v < n; ++v) {
+    const Eigen::Vector3d lo = base[v].lo.array() - reach, hi = base[v].hi.array() + reach;
+    for (int64_t i = cell_of(lo[0]); i <= cell_of(hi[0]); ++i)
+      for (int64_t j = cell_of(lo[1]); j <= cell_of(hi[1]); ++j)
+        for (int64_t k = cell_of(lo[2]); k <= cell_of(hi[2]); ++k) grid[key(i, j, k)].push_back(v);
+  }
+  std::vector<Pair> pairs;
+  std::vector<int> seen(n, -1);
+  int stamp = 0;
+  const int K = 2;  // images up to two tiles away (a small tile under compression)
+  for (int ox = -K; ox <= K; ++ox)
+    for (int oy = -K; oy <= K; ++oy) {
+      const Eigen::Vector2i o(ox, oy);
+      // Cheap rejection of a whole image: its vertex bounding box against the base tile's.
+      Box img{Eigen::Vector3d::Constant(1e300), Eigen::Vector3d::Constant(-1e300)};
+      std::vector<Box> boxes(n);
+      for (int w = 0; w < n; ++w) {
+        boxes[w] = seg_box(w, o);
+        img.lo = img.lo.cwiseMin(boxes[w].lo);
+        img.hi = img.hi.cwiseMax(boxes[w].hi);
+      }
+      if (((img.lo.array() - reach) > all.hi.array()).any() || ((img.hi.array() + reach) < all.lo.array()).any())
+        continue;
+      for (int w = 0; w < n; ++w) {
+        const Box& bw = boxes[w];
+        ++stamp;
+        for (int64_t i = cell_of(bw.lo[0]); i <= cell_of(bw.hi[0]); ++i)
+          for (int64_t j = cell_of(bw.lo[1]); j <= cell_of(bw.hi[1]); ++j)
+            for (int64_t k = cell_of(bw.lo[2]); k <= cell_of(bw.hi[2]); ++k) {
+              auto it = grid.find(key(i, j, k));
+              if (it == grid.end()) continue;
+              for (int v : it->second) {
+                if (seen[v] == stamp) continue;
+                seen[v] = stamp;
+                // Each unordered pair once: (v, w at o) and (w, v at -o) are the same.
+                if (v > w || (v == w && (ox < 0 || (ox == 0 && oy <= 0)))) continue;
+                if (excluded(v, w, o)) continue;
+                const Box& bv = base[v];
+                if (((bv.lo.array() - reach) > bw.hi.array()).any() || ((bv.hi.array() + reach) < bw.lo.array()).any())
+                  continue;
+                pairs.push_back({v, w, o});
+              }
+            }
+      }
+    }
+  return pairs;
+}
+
+double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
+                            std::vector<Eigen::Triplet<double>>* hess, EnergyParts* parts,
+                            Strain* dEds) const {
+  const int n = p_.size();
+  const bool ds = dEds != nullptr;
+  if (grad) grad->setZero(ndof_);
+  if (dEds) dEds->setZero();
+  EnergyParts e;
+  const bool derivs = grad || hess || dEds;
+  std::vector<Node> base(n);
+  for (int v = 0; v < n; ++v) base[v] = node(s, st, v, Eigen::Vector2i::Zero(), ds);
+
+  // Stretch, per edge (the vertex's outgoing edge).
+  for (int v = 0; v < n; ++v) {
+    const int w = topo_.next[v];
+    const Node nw = node(s, st, w, topo_.offset[v], ds);
+    Vec6 g;
+    Mat6 H;
+    e.stretch += stretch_energy(base[v].x, nw.x, p_.rest_length[v], EA_, derivs ? &g : nullptr,
+                                hess ? &H : nullptr);
+    if (derivs) {
+      const Node* nodes[2] = {&base[v], &nw};
+      const int verts[2] = {v, w};
+      scatter<6>(2, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, grad, hess, dEds);
+    }
+  }
+  // Bend and twist, per joint.
+  for (int v = 0; v < n; ++v) {
+    const int a = topo_.prev[v], b = topo_.next[v];
+    const Node na = node(s, st, a, -topo_.offset[a], ds);
+    const Node nb = node(s, st, b, topo_.offset[v], ds);
+    Vec11 q;
+    q << na.x, base[v].x, nb.x, st.theta[a], st.theta[v];
+    const JointFrames f{st.frames.edge[a], st.frames.edge[v], st.frames.twist[v]};
+    const JointRest rest{p_.rest_kappa[v], p_.rest_twist[v], 0.5 * (p_.rest_length[a] + p_.rest_length[v])};
+    if (parts || !derivs) {
+      e.bend += joint_energy(q, f, rest, EI_, GJ_, kBend, nullptr, nullptr);
+      e.twist += joint_energy(q, f, rest, EI_, GJ_, kTwist, nullptr, nullptr);
+    }
+    if (derivs) {
+      Vec11 g;
+      Mat11 H;
+      const double ej = joint_energy(q, f, rest, EI_, GJ_, kBendTwist, &g, hess ? &H : nullptr);
+      if (!parts) e.bend += ej;
+      const Node* nodes[3] = {&na, &base[v], &nb};
+      const int verts[3] = {a, v, b};
+      const int thv[2] = {a, v};
+      scatter<11>(3, nodes, verts, 2, thv, g, hess ? &H : nullptr, grad, hess, dEds);
+    }
+  }
+  // Contact. With a Hessian, pairs slightly beyond reach keep (zero) entries: a stable pattern.
+  const double margin = hess ? opt_.hessian_margin * p_.radius : 0.0;
+  for (const Pair& pr : contact_pairs(s, st, margin)) {
+    const int a1 = topo_.next[pr.a], b1 = topo_.next[pr.b];
+    const Node na1 = node(s, st, a1, topo_.offset[pr.a], ds);
+    const Node nb0 = node(s, st, pr.b, pr.o, ds);
+    const Node nb1 = node(s, st, b1, pr.o + topo_.offset[pr.b], ds);
+    Vec12 q;
+    q << base[pr.a].x, na1.x, nb0.x, nb1.x;
+    Vec12 g;
+    Mat12 H;
+    e.contact += segment_contact_energy(q, p_.rest_length[pr.a], p_.rest_length[pr.b], contact_,
+                                        derivs ? &g : nullptr, hess ? &H : nullptr);
+    if (derivs) {
+      const Node* nodes[4] = {&base[pr.a], &na1, &nb0, &nb1};
+      const int verts[4] = {pr.a, a1, pr.b, b1};
+      scatter<12>(4, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, grad, hess, dEds);
+    }
+  }
+  if (parts) *parts = e;
+  return e.total();
+}
+
+void RveProblem::apply_step(const Eigen::VectorXd& dy, double alpha, RveState& st) const {
+  for (int v = 0; v < p_.size(); ++v) {
+    for (int c = 0; c < npos_[v]; ++c) st.u[v] += alpha * dy[pos_index_[v] + c] * basis_[v].col(c);
+    if (theta_index_[v] >= 0) st.theta[v] += alpha * dy[theta_index_[v]];
+  }
+}
+
+void RveProblem::update_frames(const Strain& s, RveState& st) const {
+  const int n = p_.size();
+  std::vector<Eigen::Vector3d> x = positions(s, st);
+  std::vector<EdgeFrame> now(n);
+  for (int v = 0; v < n; ++v) {
+    const Eigen::Vector3d t = (position(s, st, topo_.next[v], topo_.offset[v]) - x[v]).normalized();
+    now[v] = {t, transported_director(st.frames.edge[v], t)};
+  }
+  for (int v = 0; v < n; ++v) {
+    const int a = topo_.prev[v];
+    st.frames.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.frames.twist[v]);
+  }
+  st.frames.edge = std::move(now);
+}
+
+}  // namespace yarnhom::yarn

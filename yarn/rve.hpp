@@ -1,0 +1,130 @@
+#pragma once
+// The periodic yarn RVE under a macroscopic strain s (docs/rve.md): vertex positions are the
+// shell map of s plus periodic fluctuations u in the local mid-surface frame, twist angles are
+// unknowns too, and the energy is the discrete-elastic-rod energy of the closed yarns plus
+// yarn-yarn contact across periodic images. This file evaluates the energy, its exact gradient
+// and Hessian in the reduced unknowns (zero modes removed), and dE/ds at fixed unknowns.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <unordered_set>
+#include <vector>
+
+#include "yarn/contact.hpp"
+#include "yarn/material.hpp"
+#include "yarn/pattern.hpp"
+#include "yarn/rod.hpp"
+#include "yarn/shell_map.hpp"
+
+namespace yarnhom::yarn {
+
+// Reference frames of the discrete rods, re-based after each accepted Newton step.
+struct FrameState {
+  std::vector<EdgeFrame> edge;  // per vertex (its outgoing edge)
+  std::vector<double> twist;    // reference twist per joint (vertex)
+};
+
+// Everything a solve starts from and ends with. Warm starting = passing the state of a
+// neighbouring strain: u is relative to the local mid-surface frame, so keeping it is the
+// solution migration of supplement Eq. 2, and the edge frames are parallel transported to the
+// new tangents on first use (supplement Eq. 3).
+struct RveState {
+  std::vector<Eigen::Vector3d> u;  // per vertex, in the local frame (q1, q2, n), m
+  std::vector<double> theta;       // per vertex: twist angle of its outgoing edge, rad
+  FrameState frames;
+  // [u^0, tau^0, u^1, tau^1, ...] as in supplement Eq. 1 (4 values per vertex).
+  Eigen::VectorXd packed() const;
+};
+
+struct EnergyParts {
+  double stretch = 0, bend = 0, twist = 0, contact = 0;
+  double total() const { return stretch + bend + twist + contact; }
+};
+
+struct RveOptions {
+  int contact_quadrature = 4;
+  double exclusion_arc = M_PI;     // in yarn radii: same-yarn segments closer along the
+                                   // yarn than this (rest arc length) never touch
+  double hessian_margin = 0.5;     // in yarn radii: pairs this far beyond contact still get
+                                   // (zero) Hessian entries, so the sparsity pattern is stable
+};
+
+class RveProblem {
+ public:
+  RveProblem(Pattern pattern, Material material, RveOptions options = {});
+
+  const Pattern& pattern() const { return p_; }
+  const Topology& topo() const { return topo_; }
+  const Material& material() const { return m_; }
+  double area() const { return p_.px * p_.py; }
+  int num_dofs() const { return ndof_; }
+  double radius() const { return p_.radius; }
+  double stretch_stiffness() const { return EA_; }
+
+  // u = 0, theta, frames and reference twists from the pattern.
+  RveState initial_state() const;
+
+  // Energy at s; with grad: the gradient in the reduced unknowns; with hess: the full
+  // symmetric Hessian as triplets (duplicates summed by the caller's setFromTriplets); with
+  // dEds: dE/ds at fixed unknowns.
+  double evaluate(const Strain& s, const RveState& st, Eigen::VectorXd* grad = nullptr,
+                  std::vector<Eigen::Triplet<double>>* hess = nullptr, EnergyParts* parts = nullptr,
+                  Strain* dEds = nullptr) const;
+
+  // st += alpha * dy in the reduced unknowns.
+  void apply_step(const Eigen::VectorXd& dy, double alpha, RveState& st) const;
+  // Re-bases the reference frames at the current configuration (energy unchanged).
+  void update_frames(const Strain& s, RveState& st) const;
+  // Per reduced dof: 1 for positions, 1/r for twist angles (moments -> forces), for residuals.
+  const Eigen::VectorXd& force_scale() const { return scale_; }
+
+  // Deformed positions of the base tile's vertices, and of vertex v's image at tile offset o.
+  std::vector<Eigen::Vector3d> positions(const Strain& s, const RveState& st) const;
+  Eigen::Vector3d position(const Strain& s, const RveState& st, int v, Eigen::Vector2i o) const;
+
+  // Candidate contact pairs (segment a in the base tile, segment b at tile offset o) whose
+  // inflated bounding boxes overlap, from a hash grid: never all pairs.
+  struct Pair {
+    int a, b;
+    Eigen::Vector2i o;
+  };
+  std::vector<Pair> contact_pairs(const Strain& s, const RveState& st, double margin) const;
+  bool excluded(int a, int b, Eigen::Vector2i o) const;
+
+  // Zero modes handled (for reports and tests).
+  int pinned_vertex() const { return pinned_vertex_; }
+  const std::vector<int>& slide_pinned() const { return slide_pinned_; }   // vertex per yarn
+  const std::vector<int>& twist_pinned() const { return twist_pinned_; }   // vertex per yarn
+
+  // Reduced layout.
+  int pos_index(int v) const { return pos_index_[v]; }
+  int pos_count(int v) const { return npos_[v]; }
+  int theta_index(int v) const { return theta_index_[v]; }
+  const Eigen::Matrix3d& basis(int v) const { return basis_[v]; }
+
+ private:
+  struct Node;
+  Node node(const Strain& s, const RveState& st, int v, Eigen::Vector2i o, bool want_ds) const;
+  template <int M>
+  void scatter(int nslots, const Node* const* nodes, const int* verts, int nth, const int* thv,
+               const Eigen::Matrix<double, M, 1>& gl, const Eigen::Matrix<double, M, M>* Hl,
+               Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, Strain* dEds) const;
+  static uint64_t pair_key(int a, int b, Eigen::Vector2i o);
+
+  Pattern p_;
+  Material m_;
+  RveOptions opt_;
+  Topology topo_;
+  double EA_, EI_, GJ_;
+  ContactParams contact_;
+  int ndof_ = 0;
+  std::vector<int> pos_index_, npos_, theta_index_;
+  std::vector<Eigen::Matrix3d> basis_;
+  Eigen::VectorXd scale_;
+  int pinned_vertex_ = -1;
+  std::vector<int> slide_pinned_, twist_pinned_;
+  std::unordered_set<uint64_t> excluded_;
+};
+
+}  // namespace yarnhom::yarn
