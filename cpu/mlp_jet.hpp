@@ -32,8 +32,20 @@ using Mat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;  // column-major
 
 // Per-layer buffers of one forward pass, kept for the backward pass. Reused across calls
 // (resized only when the batch grows), so a training step allocates nothing.
+//
+// The weights and inputs are copied into the workspace's own (aligned) matrices, and weight
+// gradients are formed there before being added to the caller's buffer: Eigen's vectorized
+// reductions split their sums by the alignment of the memory they read, so computing on
+// caller-owned memory would make the last bits of the result depend on where the caller's
+// allocator put it, and training would not be reproducible.
 template <class T>
 struct JetWorkspace {
+  using RowMat = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  std::vector<RowMat> W;    // weights per layer, [out, in]
+  std::vector<Eigen::Matrix<T, Eigen::Dynamic, 1>> b;
+  RowMat X;                 // inputs [B, d]
+  RowMat dW;                // one layer's weight gradient
+  Eigen::Matrix<T, Eigen::Dynamic, 1> db;  // one layer's bias gradient (or channel sum)
   std::vector<Mat<T>> z;    // pre-activation jets per layer, [n_k, C*B]
   std::vector<Mat<T>> a;    // activation jets per hidden layer, [n_k, C*B]
   Mat<T> zbar, abar;        // adjoints, reused layer by layer

@@ -8,6 +8,7 @@ namespace yarnhom::cpu {
 // db += sum over points of Zbar's channel 0, Abar = W^T Zbar. The sigmoid's jet map is undone
 // by sigmoid_jet_backward. The first layer's input jet is (x, e_i, 0, 0), so its weight
 // gradient is Zbar_0 X^T plus, in column i, the sum of Zbar's channel e_i.
+// Weights and inputs are the workspace's copies made by the forward pass (see JetWorkspace).
 template <class T>
 void mlp_jet_backward(const NetworkDesc& desc, const T* params, const T* x, int batch, int order,
                       const T* dout, T* dparams, JetWorkspace<T>& ws) {
@@ -20,11 +21,13 @@ void mlp_jet_backward(const NetworkDesc& desc, const T* params, const T* x, int 
   ws.zbar.row(0) = Eigen::Map<const Eigen::Matrix<T, 1, Eigen::Dynamic>>(dout, C * B);
   for (int k = L - 1; k >= 1; --k) {
     const int n = desc.layer_out(k), m = desc.layer_in(k);
-    Eigen::Map<const RowMat> W(params + desc.weight_offset(k), n, m);
+    const auto& W = ws.W[k];
     Eigen::Map<RowMat> dW(dparams + desc.weight_offset(k), n, m);
     Eigen::Map<Vec> db(dparams + desc.bias_offset(k), n);
-    dW.noalias() += ws.zbar * ws.a[k - 1].transpose();
-    db += ws.zbar.leftCols(B).rowwise().sum();
+    ws.dW.noalias() = ws.zbar * ws.a[k - 1].transpose();
+    dW += ws.dW;
+    ws.db.noalias() = ws.zbar.leftCols(B).rowwise().sum();
+    db += ws.db;
     ws.abar.resize(m, C * B);
     ws.abar.noalias() = W.transpose() * ws.zbar;
     sigmoid_jet_backward<T>(d, order, B, ws.z[k - 1], ws.abar, ws.zbar);
@@ -32,11 +35,14 @@ void mlp_jet_backward(const NetworkDesc& desc, const T* params, const T* x, int 
   const int n = desc.layer_out(0);
   Eigen::Map<RowMat> dW(dparams + desc.weight_offset(0), n, d);
   Eigen::Map<Vec> db(dparams + desc.bias_offset(0), n);
-  Eigen::Map<const RowMat> X(x, B, d);
-  dW.noalias() += ws.zbar.leftCols(B) * X;
-  for (int i = 0; i < d && order >= 1; ++i)
-    dW.col(i) += ws.zbar.middleCols((1 + i) * B, B).rowwise().sum();
-  db += ws.zbar.leftCols(B).rowwise().sum();
+  ws.dW.noalias() = ws.zbar.leftCols(B) * ws.X;
+  dW += ws.dW;
+  for (int i = 0; i < d && order >= 1; ++i) {
+    ws.db.noalias() = ws.zbar.middleCols((1 + i) * B, B).rowwise().sum();
+    dW.col(i) += ws.db;
+  }
+  ws.db.noalias() = ws.zbar.leftCols(B).rowwise().sum();
+  db += ws.db;
 }
 
 template void mlp_jet_backward<float>(const NetworkDesc&, const float*, const float*, int, int,

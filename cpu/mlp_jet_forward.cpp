@@ -12,16 +12,24 @@ void mlp_jet_forward(const NetworkDesc& desc, const T* params, const T* x, int b
   const int L = desc.num_layers();
   ws.z.resize(L);
   ws.a.resize(L - 1);
+  ws.W.resize(L);
+  ws.b.resize(L);
   ws.batch = B;
   ws.order = order;
+  for (int k = 0; k < L; ++k) {
+    const int n = desc.layer_out(k), m = desc.layer_in(k);
+    ws.W[k] = Eigen::Map<const RowMat>(params + desc.weight_offset(k), n, m);
+    ws.b[k] = Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, 1>>(params + desc.bias_offset(k), n);
+  }
+  ws.X = Eigen::Map<const RowMat>(x, B, d);
 
   // The input jet is (x, e_i, 0, 0): so the first layer's pre-activation jet is
   // z = W x + b, z_i = W[:, i] for every point, and zero at orders 2 and 3.
   {
     const int n = desc.layer_out(0);
-    Eigen::Map<const RowMat> W(params + desc.weight_offset(0), n, d);
-    Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, 1>> b(params + desc.bias_offset(0), n);
-    Eigen::Map<const RowMat> X(x, B, d);
+    const auto& W = ws.W[0];
+    const auto& b = ws.b[0];
+    const auto& X = ws.X;
     Mat<T>& Z = ws.z[0];
     Z.resize(n, C * B);
     Z.leftCols(B).noalias() = W * X.transpose();
@@ -31,9 +39,9 @@ void mlp_jet_forward(const NetworkDesc& desc, const T* params, const T* x, int b
   }
   for (int k = 1; k < L; ++k) {
     sigmoid_jet_forward<T>(d, order, B, ws.z[k - 1], ws.a[k - 1]);
-    const int n = desc.layer_out(k), m = desc.layer_in(k);
-    Eigen::Map<const RowMat> W(params + desc.weight_offset(k), n, m);
-    Eigen::Map<const Eigen::Matrix<T, Eigen::Dynamic, 1>> b(params + desc.bias_offset(k), n);
+    const int n = desc.layer_out(k);
+    const auto& W = ws.W[k];
+    const auto& b = ws.b[k];
     Mat<T>& Z = ws.z[k];
     Z.resize(n, C * B);
     Z.noalias() = W * ws.a[k - 1];
