@@ -44,7 +44,10 @@ namespace {
 
 std::vector<double> linspace(double a, double b, int n) {
   std::vector<double> v(n);
-  for (int i = 0; i < n; ++i) v[i] = a + (b - a) * i / (n - 1);
+  for (int i = 0; i < n; ++i) {
+    v[i] = a + (b - a) * i / (n - 1);
+    if (std::abs(v[i]) < 1e-12 * (b - a)) v[i] = 0.0;  // the rest state exactly, not 1e-17
+  }
   return v;
 }
 
