@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs, from Debian 12's packages, what yarnhom needs to build, test and plot, skipping
+# what is already there. Runs apt-get through sudo when not root.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev libcli11-dev libgtest-dev
+      libgmock-dev libbenchmark-dev python3 python3-numpy python3-h5py python3-matplotlib)
+# PyTorch is only the reference the tests compare against (skipped without it); set
+# YARNHOM_NO_TORCH=1 to leave it out.
+[ "${YARNHOM_NO_TORCH:-0}" = 1 ] || pkgs+=(python3-torch)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: everything is installed"
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo=sudo
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
