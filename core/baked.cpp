@@ -112,6 +112,11 @@ void write_baked(const std::string& path, const BakedModel& m) {
   out.commit();
 }
 
+bool is_baked_file(const std::string& path) {
+  h5::Node root = h5::open_file(path);
+  return root.has_attr("format") && root.attr_string("format") == kBakedFormat;
+}
+
 BakedModel read_baked(const std::string& path) {
   h5::Node root = h5::open_file(path);
   if (!root.has_attr("format") || root.attr_string("format") != kBakedFormat)

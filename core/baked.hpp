@@ -71,6 +71,9 @@ struct BakedModel {
 inline constexpr const char* kBakedFormat = "yarnhom-baked";
 inline constexpr int kBakedVersion = 1;
 
+// True when the file is HDF5 with the baked format tag (false for a model file, or any other).
+bool is_baked_file(const std::string& path);
+
 // Reads and checks shapes, finiteness and boxes; throws FileError naming the file, the object
 // and the problem. (Agreement of the safeguard coefficients with the knots is checked by the
 // evaluator, bake/baked_eval.hpp, which can recompute them.)

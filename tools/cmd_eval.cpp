@@ -1,8 +1,11 @@
 // yarnhom eval: a trained term's energy and derivatives at given strains, as CSV.
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
+#include "bake/baked_eval.hpp"
+#include "core/baked.hpp"
 #include "core/jet_layout.hpp"
 #include "core/model.hpp"
 #include "cpu/network_eval.hpp"
@@ -68,16 +71,30 @@ void register_eval(CLI::App& app) {
       "eval",
       "Evaluate one term of a model at given strains. Prints CSV in physical units (J/m^2, "
       "strains as in the spec): the strain, the energy Psi_I, its gradient, Hessian and third "
-      "derivatives with respect to the term's strain components.");
-  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(CLI::ExistingFile);
+      "derivatives with respect to the term's strain components. MODEL may also be a baked file "
+      "(from bake): the same columns from its table, inside or outside the box (safeguard), so "
+      "the two can be compared at any strain.");
+  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all, or baked file written by bake")->required()->check(CLI::ExistingFile);
   cmd->add_option("--term", o->term, "The term, e.g. 02")->required();
   cmd->add_option("--at", o->at, "A strain point: d comma-separated values (repeatable)");
   cmd->add_option("--points", o->points, "CSV file of strain points, one per line")->check(CLI::ExistingFile);
   cmd->callback([o] {
-    Model m = read_model(o->model);
-    const ModelNetwork* net = m.find(o->term);
-    if (!net) throw std::invalid_argument(o->model + ": no network for term '" + o->term + "'");
-    const int d = net->term.dim();
+    // A baked file answers from its table; a model file from its network.
+    std::optional<Model> m;
+    std::optional<BakedModel> bm;
+    const ModelNetwork* net = nullptr;
+    const BakedTable* table = nullptr;
+    if (is_baked_file(o->model)) {
+      bm = read_baked(o->model);
+      table = bm->find(o->term);
+      if (!table) throw std::invalid_argument(o->model + ": no table for term '" + o->term + "'");
+    } else {
+      m = read_model(o->model);
+      net = m->find(o->term);
+      if (!net) throw std::invalid_argument(o->model + ": no network for term '" + o->term + "'");
+    }
+    const Term& term = net ? net->term : table->term;
+    const int d = term.dim();
     std::vector<double> pts;
     for (const std::string& a : o->at) {
       auto v = parse_numbers(a, "--at");
@@ -91,9 +108,21 @@ void register_eval(CLI::App& app) {
     }
     if (pts.empty()) throw std::invalid_argument("no points: give --at or --points");
     const int n = int(pts.size()) / d;
-    auto jet = cpu::eval_network_physical(*net, pts.data(), n, 3);
-    auto names = channel_names(net->term);
-    for (int i = 0; i < d; ++i) std::printf("%s,", kStrainSymbols[net->term.indices[i]]);
+    std::vector<double> jet;
+    if (net) {
+      jet = cpu::eval_network_physical(*net, pts.data(), n, 3);
+    } else {
+      const BakedTerm bt = make_baked_term(*table, o->model);
+      const int C = jet_channels(d, 3);
+      jet.resize(size_t(C) * n);
+      double j[kMaxJetChannels];
+      for (int p = 0; p < n; ++p) {
+        eval_baked_jet(bt, &pts[size_t(p) * d], 3, j);
+        for (int c = 0; c < C; ++c) jet[size_t(c) * n + p] = j[c];
+      }
+    }
+    auto names = channel_names(term);
+    for (int i = 0; i < d; ++i) std::printf("%s,", kStrainSymbols[term.indices[i]]);
     for (size_t c = 0; c < names.size(); ++c) std::printf("%s%s", names[c].c_str(), c + 1 < names.size() ? "," : "\n");
     for (int p = 0; p < n; ++p) {
       for (int i = 0; i < d; ++i) std::printf("%.17g,", pts[p * d + i]);

@@ -14,9 +14,12 @@ struct ExitCode {
 void register_synth(CLI::App& app);
 void register_train(CLI::App& app);  // train and train-all
 void register_eval(CLI::App& app);
+void register_bake(CLI::App& app);   // tools/cmd_bake.cpp
+void register_error(CLI::App& app);  // tools/cmd_error.cpp
+void register_plot(CLI::App& app);   // tools/cmd_plot.cpp
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
-  return {register_synth, register_train, register_eval};
+  return {register_synth, register_train, register_eval, register_bake, register_error, register_plot};
 }
 
 }  // namespace yarnhom::tools

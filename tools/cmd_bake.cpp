@@ -1,0 +1,133 @@
+// yarnhom bake: trained networks -> Hermite tables with the safeguard (spec section 8).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "bake/bake_accuracy.hpp"
+#include "bake/bake_table.hpp"
+#include "core/baked.hpp"
+#include "core/dataset.hpp"
+#include "core/model.hpp"
+#include "tools/commands.hpp"
+
+namespace yarnhom::tools {
+
+namespace {
+
+// The model's dataset, as given or relative to the model's folder; empty if neither exists.
+std::string find_dataset(const std::string& model_path, const std::string& dataset) {
+  namespace fs = std::filesystem;
+  if (dataset.empty()) return "";
+  if (fs::exists(dataset)) return dataset;
+  const fs::path beside = fs::path(model_path).parent_path() / fs::path(dataset).filename();
+  return fs::exists(beside) ? beside.string() : "";
+}
+
+// Where the safeguard lets the energy fall far outside the box: a boundary curvature
+// d2f/dn2 < 0 (the quadratic then turns down) or an inward-pointing slope (the energy's minimum
+// lies outside). Both are properties of the trained network at its boundary, which the
+// strain-concentration loss L_S is meant to prevent; we report them, not hide them.
+std::string safeguard_warnings(const BakedTable& t) {
+  int bad_curv = 0, bad_slope = 0, total = 0;
+  if (t.dim() == 1) {
+    for (int e = 0; e < 2; ++e) {
+      const auto& c = e == 0 ? t.safeguard_lower : t.safeguard_upper;
+      const double X = e == 0 ? t.lower[0] : t.upper[0];
+      const double slope = 2 * c[0] * X + c[1], outward = e == 0 ? -slope : slope;
+      bad_curv += c[0] < 0;
+      bad_slope += outward < 0;
+      ++total;
+    }
+  } else {
+    for (int e = 0; e < 4; ++e) {
+      const double sign = e % 2 == 0 ? -1.0 : 1.0;  // outward normal along the edge's axis
+      const auto& g = t.edges[e];
+      for (size_t j = 0; j < g.size() / 6; ++j) {
+        bad_slope += sign * g[6 * j + 2] < 0;
+        bad_curv += g[6 * j + 4] < 0;
+        ++total;
+      }
+    }
+  }
+  std::string out;
+  char buf[160];
+  if (bad_curv) {
+    std::snprintf(buf, sizeof buf, "negative outward curvature at %d of %d boundary knots (energy falls far outside there)", bad_curv, total);
+    out += buf;
+  }
+  if (bad_slope) {
+    std::snprintf(buf, sizeof buf, "%sinward slope at %d of %d boundary knots", out.empty() ? "" : "; ", bad_slope, total);
+    out += buf;
+  }
+  return out;
+}
+
+}  // namespace
+
+void register_bake(CLI::App& app) {
+  struct Opts {
+    std::string model, out, data;
+    int res1d = 200, res2d = 100;
+    bool no_check = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand(
+      "bake",
+      "Bake every network of a model into Hermite tables (1D: cubic, (f, f') at res1d knots; 2D: "
+      "bicubic, (f, f_x, f_y, f_xy) on res2d x res2d knots; exact network derivatives) with the "
+      "safeguard outside the trained box (1D: C2 quadratic ends; 2D: four edge bands and four "
+      "corners, C1). The baked file is what a cloth simulator loads (docs/bake.md).");
+  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", o->out, "Baked file to write (HDF5, written atomically)")->required();
+  cmd->add_option("--res1d", o->res1d, "Knots of a 1D table (the paper: 200)")->check(CLI::Range(2, 1000000))->capture_default_str();
+  cmd->add_option("--res2d", o->res2d, "Knots per axis of a 2D table (the paper: 100)")->check(CLI::Range(2, 10000))->capture_default_str();
+  cmd->add_option("--data", o->data,
+                  "Dataset whose Psi0 (rest energy) to store for the full material; default: the "
+                  "model's own dataset when it can be found")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--no-check", o->no_check, "Skip measuring each table against its network");
+  cmd->callback([o] {
+    const auto t0 = std::chrono::steady_clock::now();
+    Model model = read_model(o->model);
+    double psi0 = 0;
+    bool known = false;
+    const std::string data = o->data.empty() ? find_dataset(o->model, model.dataset) : o->data;
+    if (!data.empty()) {
+      psi0 = read_dataset(data).psi0;
+      known = true;
+    } else {
+      std::fprintf(stderr,
+                   "yarnhom bake: note: the model's dataset '%s' was not found, so Psi0 is stored "
+                   "as 0 (psi0_known = 0); give --data to store it\n",
+                   model.dataset.c_str());
+    }
+    BakedModel baked = bake_model(model, o->model, o->res1d, o->res2d, psi0, known);
+    const double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    write_baked(o->out, baked);
+    std::printf("term  knots      max|baked-net|/range  grad max rel   safeguard\n");
+    for (size_t k = 0; k < baked.tables.size(); ++k) {
+      const BakedTable& t = baked.tables[k];
+      const ModelNetwork& net = model.networks[k];
+      std::string knots = std::to_string(t.knots[0]) + (t.dim() == 2 ? "x" + std::to_string(t.knots[1]) : "");
+      std::string dev = "-", gdev = "-";
+      if (!o->no_check) {
+        BakeDeviation d = bake_deviation(network_function(net), baked_function(make_baked_term(t)), t.dim(),
+                                         t.lower, t.upper, t.dim() == 1 ? 2003 : 101);
+        char b1[32], b2[32];
+        std::snprintf(b1, sizeof b1, "%.3e", d.max_rel);
+        std::snprintf(b2, sizeof b2, "%.3e", d.grad_max_rel);
+        dev = b1;
+        gdev = b2;
+      }
+      const std::string warn = safeguard_warnings(t);
+      std::printf("%-5s %-10s %-21s %-14s %s\n", t.term.name.c_str(), knots.c_str(), dev.c_str(), gdev.c_str(),
+                  warn.empty() ? "ok" : warn.c_str());
+    }
+    std::printf("baked %zu terms (1D %d knots, 2D %dx%d) in %.2fs -> %s%s\n", baked.tables.size(), o->res1d, o->res2d,
+                o->res2d, bake_s, o->out.c_str(), known ? "" : " (Psi0 unknown)");
+  });
+}
+
+}  // namespace yarnhom::tools
