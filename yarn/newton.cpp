@@ -108,7 +108,6 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       alpha *= 0.5;
     }
     if (!accepted) return finish(SolveStatus::kLineSearchFailed);
-    rve.update_frames(s, st);
   }
 }
 

@@ -11,7 +11,7 @@
 // iteration is plain Newton with quadratic convergence. The step then decreases the energy
 // (Armijo backtracking). Convergence: the residual, the RMS of the gradient with twist
 // moments divided by the yarn radius (forces), relative to the stretching stiffness EA,
-// falls below `tolerance`.
+// falls below `tolerance`. The rods' reference frames stay fixed (FrameState in rve.hpp).
 #include <string>
 
 #include "yarn/rve.hpp"

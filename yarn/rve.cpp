@@ -22,7 +22,9 @@ Eigen::VectorXd RveState::packed() const {
 struct RveProblem::Node {
   Eigen::Vector3d x;
   Eigen::Matrix3d J;                 // dx / d(reduced dofs of the vertex), first npos columns
+  Eigen::Matrix3d R;                 // local mid-surface frame at the vertex's reference point
   Eigen::Matrix<double, 3, 6> dxds;  // dx / ds at fixed u (only when asked)
+  Eigen::Matrix<double, 3, 6> omega; // dR/ds_k = [omega_k]x R (only when asked)
 };
 
 RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options)
@@ -140,14 +142,22 @@ RveProblem::Node RveProblem::node(const Strain& s, const RveState& st, int v, Ei
   nd.x = Eigen::Vector3d(x.x, x.y, x.z);
   Eigen::Matrix3d R;
   for (int c = 0; c < 3; ++c) R.col(c) = Eigen::Vector3d(sp.R[c].x, sp.R[c].y, sp.R[c].z);
+  nd.R = R;
   nd.J = R * basis_[v];
   if (want_ds) {
     Jet<6> sj[6];
     for (int k = 0; k < 6; ++k) sj[k] = Jet<6>::variable(k, s[k]);
-    const V3<Jet<6>> xj = shell_map(sj, xi1, xi2, h).apply(st.u[v]);
+    const ShellPoint<Jet<6>> spj = shell_map(sj, xi1, xi2, h);
+    const V3<Jet<6>> xj = spj.apply(st.u[v]);
     nd.dxds.row(0) = xj.x.g.transpose();
     nd.dxds.row(1) = xj.y.g.transpose();
     nd.dxds.row(2) = xj.z.g.transpose();
+    for (int k = 0; k < 6; ++k) {
+      Eigen::Matrix3d dR;
+      for (int c = 0; c < 3; ++c) dR.col(c) << spj.R[c].x.g[k], spj.R[c].y.g[k], spj.R[c].z.g[k];
+      const Eigen::Matrix3d W = dR * R.transpose();  // skew for a rotation family
+      nd.omega.col(k) << 0.5 * (W(2, 1) - W(1, 2)), 0.5 * (W(0, 2) - W(2, 0)), 0.5 * (W(1, 0) - W(0, 1));
+    }
   }
   return nd;
 }
@@ -308,7 +318,15 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
     const Node nb = node(s, st, b, topo_.offset[v], ds);
     Vec11 q;
     q << na.x, base[v].x, nb.x, st.theta[a], st.theta[v];
-    const JointFrames f{st.frames.edge[a], st.frames.edge[v], st.frames.twist[v]};
+    // The stored frames are rest-state (s = 0) vectors; each joint carries them with its own
+    // local mid-surface frame R_v before transporting them to the current tangents. That
+    // makes the directors periodic in the local frame, like the fluctuations: an edge that
+    // crosses the tile boundary is seen at two images with different tangents under curvature,
+    // and each joint turns the stored frame to its own image (docs/rve.md).
+    const Eigen::Matrix3d& Rv = base[v].R;
+    const JointFrames f{{Rv * st.frames.edge[a].t, Rv * st.frames.edge[a].d1},
+                        {Rv * st.frames.edge[v].t, Rv * st.frames.edge[v].d1},
+                        st.frames.twist[v]};
     const JointRest rest{p_.rest_kappa[v], p_.rest_twist[v], 0.5 * (p_.rest_length[a] + p_.rest_length[v])};
     if (parts || !derivs) {
       e.bend += joint_energy(q, f, rest, EI_, GJ_, kBend, nullptr, nullptr);
@@ -323,6 +341,14 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
       const int verts[3] = {a, v, b};
       const int thv[2] = {a, v};
       scatter<11>(3, nodes, verts, 2, thv, g, hess ? &H : nullptr, grad, hess, dEds);
+      if (dEds) {
+        // The joint also depends on s through R_v. The joint energy is invariant under a
+        // rotation of its points and frames together, so turning the frames alone by a small
+        // omega changes it by minus what turning the points does: -omega . sum (x_a x g_a).
+        Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 3; ++k) torque += (q.segment<3>(3 * k) - base[v].x).cross(g.segment<3>(3 * k));
+        *dEds -= base[v].omega.transpose() * torque;
+      }
     }
   }
   // Contact. With a Hessian, pairs slightly beyond reach keep (zero) entries: a stable pattern.
@@ -353,21 +379,6 @@ void RveProblem::apply_step(const Eigen::VectorXd& dy, double alpha, RveState& s
     for (int c = 0; c < npos_[v]; ++c) st.u[v] += alpha * dy[pos_index_[v] + c] * basis_[v].col(c);
     if (theta_index_[v] >= 0) st.theta[v] += alpha * dy[theta_index_[v]];
   }
-}
-
-void RveProblem::update_frames(const Strain& s, RveState& st) const {
-  const int n = p_.size();
-  std::vector<Eigen::Vector3d> x = positions(s, st);
-  std::vector<EdgeFrame> now(n);
-  for (int v = 0; v < n; ++v) {
-    const Eigen::Vector3d t = (position(s, st, topo_.next[v], topo_.offset[v]) - x[v]).normalized();
-    now[v] = {t, transported_director(st.frames.edge[v], t)};
-  }
-  for (int v = 0; v < n; ++v) {
-    const int a = topo_.prev[v];
-    st.frames.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.frames.twist[v]);
-  }
-  st.frames.edge = std::move(now);
 }
 
 }  // namespace yarnhom::yarn

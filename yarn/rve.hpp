@@ -19,7 +19,16 @@
 
 namespace yarnhom::yarn {
 
-// Reference frames of the discrete rods, re-based after each accepted Newton step.
+// Reference frames of the discrete rods: each edge's director at its rest tangent (the
+// pattern's *RefD1), turned by the local mid-surface frame R_v of the joint that uses it and
+// parallel transported to the edge's current tangent there. They stay fixed during solves,
+// which makes E(s, u, theta) one fixed smooth function: Psi(s) does not depend on the path a
+// solve took, and the envelope theorem holds exactly. Re-basing the frames after each step,
+// as time-stepping DER codes do, is NOT harmless here: under curvature the shell map is not
+// periodic, an edge crossing the tile boundary has different tangents in the joints at its
+// two ends (its two images), and a re-based frame changes the energy landscape (measured on
+// stocktiny before this design: Psi moved by 1.6e-7 relative and the envelope gradient was
+// off by 4e-4 relative to finite differences of Psi).
 struct FrameState {
   std::vector<EdgeFrame> edge;  // per vertex (its outgoing edge)
   std::vector<double> twist;    // reference twist per joint (vertex)
@@ -27,8 +36,8 @@ struct FrameState {
 
 // Everything a solve starts from and ends with. Warm starting = passing the state of a
 // neighbouring strain: u is relative to the local mid-surface frame, so keeping it is the
-// solution migration of supplement Eq. 2, and the edge frames are parallel transported to the
-// new tangents on first use (supplement Eq. 3).
+// solution migration of supplement Eq. 2; the reference directors are parallel transported
+// to the current tangents inside every energy evaluation, which covers supplement Eq. 3.
 struct RveState {
   std::vector<Eigen::Vector3d> u;  // per vertex, in the local frame (q1, q2, n), m
   std::vector<double> theta;       // per vertex: twist angle of its outgoing edge, rad
@@ -74,8 +83,6 @@ class RveProblem {
 
   // st += alpha * dy in the reduced unknowns.
   void apply_step(const Eigen::VectorXd& dy, double alpha, RveState& st) const;
-  // Re-bases the reference frames at the current configuration (energy unchanged).
-  void update_frames(const Strain& s, RveState& st) const;
   // Per reduced dof: 1 for positions, 1/r for twist angles (moments -> forces), for residuals.
   const Eigen::VectorXd& force_scale() const { return scale_; }
 
