@@ -30,6 +30,14 @@ SECTOR_NAMES = ["inside", "x lower", "x upper", "y lower", "y upper",
                 "corner --", "corner +-", "corner -+", "corner ++"]
 
 
+# The terms in the spec's catalogue order (HDF5 lists groups alphabetically).
+ORDER = "0 1 2 3 5 01 02 03 05 12 13 15 23 25".split()
+
+
+def ordered(group):
+    return sorted(group.keys(), key=lambda n: ORDER.index(n) if n in ORDER else len(ORDER))
+
+
 def attr_str(v):
     return v.decode() if isinstance(v, bytes) else str(v)
 
@@ -42,7 +50,7 @@ def grid_shape(n):
 def loss_curves(f, out):
     if "history" not in f or len(f["history"]) == 0:
         return None
-    names = list(f["history"].keys())
+    names = ordered(f["history"])
     rows, cols = grid_shape(len(names))
     fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 2.8 * rows), squeeze=False)
     for ax in axes.flat[len(names):]:
@@ -79,7 +87,8 @@ def surfaces(f, out):
     if "surface" not in f:
         return paths
     cmap = ListedColormap(SECTOR_COLOURS)
-    for name, g in f["surface"].items():
+    for name in ordered(f["surface"]):
+        g = f["surface"][name]
         x, y = g["x"][:], g["y"][:]
         psi, sec, d3 = g["psi"][:], g["sector"][:].astype(int), g["d3"][:]
         lo, hi = g.attrs["lower"], g.attrs["upper"]
@@ -114,7 +123,7 @@ def surfaces(f, out):
 def convexity(f, out):
     if "convexity" not in f or len(f["convexity"]) == 0:
         return None
-    names = list(f["convexity"].keys())
+    names = ordered(f["convexity"])
     rows, cols = grid_shape(len(names))
     fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 3.0 * rows), squeeze=False)
     for ax in axes.flat[len(names):]:
@@ -141,7 +150,7 @@ def convexity(f, out):
 def lines(f, out):
     if "line" not in f or len(f["line"]) == 0:
         return None
-    names = list(f["line"].keys())
+    names = ordered(f["line"])
     fig, axes = plt.subplots(1, len(names), figsize=(3.6 * len(names), 3.2), squeeze=False)
     for ax, name in zip(axes.flat, names):
         g = f["line"][name]
