@@ -11,6 +11,7 @@
 
 #include "tests/yarn/test_support.hpp"
 #include "yarn/energy_density.hpp"
+#include "yarn/generate.hpp"
 
 using namespace yarnhom::yarn;
 using yarnhom::yarn::testing::rel_err;
@@ -44,6 +45,13 @@ Eigen::MatrixXd dense_hessian(const RveProblem& rve, const Strain& s, const RveS
   return Eigen::MatrixXd(H);
 }
 
+// The paper's tiny stockinette when the shared patterns are there, else the generated one:
+// these tests run everywhere.
+Pattern small_knit(const char* shared = "stocktiny") {
+  if (yarnhom::yarn::testing::have_shared_patterns()) return read_pyp(shared_pattern(shared));
+  return generate_stockinette({});
+}
+
 double step_for(const RveProblem& rve, int i) { return rve.force_scale()[i] == 1.0 ? 1e-9 : 1e-6; }
 
 Pattern rotated90(const Pattern& p) {
@@ -59,8 +67,7 @@ Pattern rotated90(const Pattern& p) {
 }  // namespace
 
 TEST(Rve, ReducedGradientAndHessianMatchFiniteDifferences) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   const RveState st = perturbed(rve, 1);
   for (const Strain& s : {Strain(Strain::Zero()), strain(0.1, 0.2, -0.05, 50, 20, -30)}) {
     Eigen::VectorXd g;
@@ -90,8 +97,7 @@ TEST(Rve, ReducedGradientAndHessianMatchFiniteDifferences) {
 }
 
 TEST(Rve, StrainDerivativeAtFixedUnknownsMatchesFiniteDifferences) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   const RveState st = perturbed(rve, 2);
   const Strain s = strain(0.15, -0.1, 0.05, -40, 25, 60);
   Strain dE;
@@ -107,8 +113,7 @@ TEST(Rve, StrainDerivativeAtFixedUnknownsMatchesFiniteDifferences) {
 }
 
 TEST(Rve, EnergyInvariantUnderRigidMotionOfTheWholeRve) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const Pattern p = read_pyp(shared_pattern("stocktiny"));
+  const Pattern p = small_knit();
   const RveProblem rve(p, Material{});
   // Translation: shifting the whole pattern (in-plane and along the normal) translates every
   // vertex and every image rigidly under a flat strain.
@@ -138,8 +143,7 @@ TEST(Rve, EnergyInvariantUnderRigidMotionOfTheWholeRve) {
 }
 
 TEST(Rve, RelaxedRestIsAnEquilibriumAndALocalMinimum) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   RveState st = rve.initial_state();
   const DensityResult r0 = energy_density(rve, Strain::Zero(), st);
   ASSERT_TRUE(r0.report.converged()) << r0.report.summary();
@@ -173,8 +177,7 @@ TEST(Rve, RelaxedRestIsAnEquilibriumAndALocalMinimum) {
 }
 
 TEST(Rve, TwoByOneTilingGivesTheSamePsi) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const Pattern p = read_pyp(shared_pattern("stocktiny"));
+  const Pattern p = small_knit();
   const RveProblem one(p, Material{}), two(tile(p, 2, 1), Material{});
   RveState a = one.initial_state(), b = two.initial_state();
   for (const Strain& s : {Strain(Strain::Zero()), strain(0.2, 0.1, -0.05, 0, 0, 0), strain(0.1, 0, 0.1, 30, 0, 0)}) {
@@ -190,8 +193,7 @@ TEST(Rve, TwoByOneTilingGivesTheSamePsi) {
 }
 
 TEST(Rve, EnvelopeGradientMatchesFiniteDifferencesOfPsi) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   RveState st = rve.initial_state();
   SolveOptions opt;
   opt.tolerance = 1e-13;
@@ -212,8 +214,7 @@ TEST(Rve, EnvelopeGradientMatchesFiniteDifferencesOfPsi) {
 }
 
 TEST(Rve, WarmStartReachesTheSameSolutionInFewerIterations) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   RveState rest = rve.initial_state();
   ASSERT_TRUE(solve(rve, Strain::Zero(), rest).converged());
   const Strain s = strain(0.3, 0, 0, 0, 0, 0), near = strain(0.28, 0, 0, 0, 0, 0);
@@ -227,8 +228,7 @@ TEST(Rve, WarmStartReachesTheSameSolutionInFewerIterations) {
 }
 
 TEST(Rve, ZeroModesAreExactAndPinned) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   const RveState st = perturbed(rve, 3);
   const Strain s = strain(0.1, 0.1, 0.1, 0, 0, 0);
   const double E = rve.evaluate(s, st);
@@ -255,8 +255,7 @@ TEST(Rve, ZeroModesAreExactAndPinned) {
 }
 
 TEST(Rve, FailureIsReportedNotHidden) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiny")), Material{});
+  const RveProblem rve(small_knit(), Material{});
   RveState st = rve.initial_state();
   SolveOptions opt;
   opt.max_iterations = 1;
@@ -268,8 +267,7 @@ TEST(Rve, FailureIsReportedNotHidden) {
 }
 
 TEST(Rve, BroadPhaseFindsExactlyTheInteractingPairsOfAllPairs) {
-  YARN_REQUIRE_SHARED_PATTERNS();
-  const RveProblem rve(read_pyp(shared_pattern("stocktiniest")), Material{});
+  const RveProblem rve(small_knit("stocktiniest"), Material{});
   const RveState st = perturbed(rve, 5);
   const Strain s = strain(-0.15, 0.4, -0.1, 100, 0, -50);
   const int n = rve.pattern().size();
