@@ -1,0 +1,163 @@
+// yarnhom pipeline: produce -> train-all -> bake -> error -> plot in one command, each stage
+// skipped when its output is already there, newer than its input and made with the same
+// settings (bake/pipeline_stage.hpp), so a rerun after an interruption continues.
+//
+// Each stage runs as this same program with the stage's subcommand, in a child process, with its
+// output in RUN_DIR/logs/<stage>.log: the stages stay exactly the commands a user can run by
+// hand, and one failing stage cannot leave the pipeline in a half state (outputs are atomic).
+//
+// PATTERN "synthetic" uses `synth` (the analytic stand-in, docs/synthetic.md). Any other PATTERN
+// needs the `produce` subcommand (the yarn RVE producer); the pipeline uses it when this build
+// has it and says so when it does not.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "bake/pipeline_stage.hpp"
+#include "core/model.hpp"
+#include "tools/cli_util.hpp"
+#include "tools/commands.hpp"
+
+namespace yarnhom::tools {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct Stage {
+  std::string name;
+  std::vector<std::string> args;  // subcommand and its arguments
+  std::vector<std::string> inputs, outputs;
+};
+
+}  // namespace
+
+void register_pipeline(CLI::App& app) {
+  struct Opts {
+    std::string pattern, run, preset = "quick", backend = "cpu";
+    int threads = 0, epochs = 0;
+    bool force = false;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* parent = &app;
+  auto* cmd = app.add_subcommand(
+      "pipeline",
+      "Run the whole pipeline into RUN_DIR: produce (or synth for PATTERN 'synthetic') -> "
+      "train-all -> bake -> error -> plot. Each stage is skipped when its output exists, is newer "
+      "than its input and was made with the same settings, so a rerun after an interruption "
+      "continues. Ends with a short report. Stage logs: RUN_DIR/logs/.");
+  cmd->add_option("PATTERN", o->pattern, "A .pyp pattern for produce, or 'synthetic'")->required();
+  cmd->add_option("-o,--output", o->run, "Run folder (created)")->required();
+  cmd->add_option("--preset", o->preset, "Sampling density: quick or paper")
+      ->check(CLI::IsMember({"quick", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--backend", o->backend, "Training backend: cpu or cuda")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "CPU threads for training (0: all cores)")->capture_default_str();
+  cmd->add_option("--epochs", o->epochs, "Epochs per network (0: the paper's 500)")->capture_default_str();
+  cmd->add_flag("--force", o->force, "Rerun every stage");
+  cmd->callback([o, parent] {
+    const auto t_all = std::chrono::steady_clock::now();
+    const fs::path run(o->run);
+    fs::create_directories(run / "logs");
+    fs::create_directories(run / ".stages");
+    const std::string exe = fs::read_symlink("/proc/self/exe").string();
+    const std::string ds = (run / "dataset.h5").string(), model = (run / "model.h5").string(),
+                      baked = (run / "baked.h5").string(), errors = (run / "errors.txt").string(),
+                      errors_csv = (run / "errors.csv").string(), plots = (run / "plots" / "plotdata.h5").string();
+    const bool synthetic = o->pattern == "synthetic";
+    bool have_produce = false;
+    for (CLI::App* sub : parent->get_subcommands([](CLI::App*) { return true; }))
+      have_produce = have_produce || sub->get_name() == "produce";
+    std::vector<Stage> stages;
+    if (synthetic) {
+      stages.push_back({"produce", {"synth", "-o", ds, "--preset", o->preset}, {}, {ds}});
+    } else {
+      if (!fs::exists(o->pattern)) throw std::invalid_argument(o->pattern + ": no such pattern file (or use 'synthetic')");
+      if (!have_produce)
+        throw std::invalid_argument(
+            "this build has no 'produce' command (the yarn RVE producer is not finished), so only "
+            "PATTERN 'synthetic' can run; try: yarnhom pipeline synthetic -o " + o->run);
+      stages.push_back({"produce", {"produce", o->pattern, "-o", ds, "--preset", o->preset}, {o->pattern}, {ds}});
+    }
+    std::vector<std::string> train = {"train-all", ds, "-o", model, "--backend", o->backend, "-q"};
+    if (o->threads > 0) { train.push_back("--threads"); train.push_back(std::to_string(o->threads)); }
+    if (o->epochs > 0) { train.push_back("--epochs"); train.push_back(std::to_string(o->epochs)); }
+    stages.push_back({"train-all", train, {ds}, {model}});
+    stages.push_back({"bake", {"bake", model, "-o", baked, "--data", ds}, {model, ds}, {baked}});
+    stages.push_back({"error", {"error", baked, "--model", model, "--data", ds, "--csv", errors_csv}, {baked, model, ds}, {errors, errors_csv}});
+    stages.push_back({"plot", {"plot", o->run}, {baked, model, ds}, {plots}});
+
+    std::printf("pipeline %s -> %s (preset %s, backend %s)\n", o->pattern.c_str(), o->run.c_str(), o->preset.c_str(),
+                o->backend.c_str());
+    std::vector<std::pair<std::string, double>> times;
+    for (const Stage& s : stages) {
+      std::string settings;
+      for (const std::string& a : s.args) settings += a + "\n";
+      const std::string stamp = (run / ".stages" / (s.name + ".done")).string();
+      StageDecision d = stage_decision(s.inputs, s.outputs, stamp, settings);
+      if (o->force) d = {true, "--force"};
+      if (!d.run) {
+        std::printf("  %-10s skipped (up to date)\n", s.name.c_str());
+        continue;
+      }
+      std::printf("  %-10s running (%s) ...", s.name.c_str(), d.reason.c_str());
+      std::fflush(stdout);
+      const std::string log = (run / "logs" / (s.name + ".log")).string();
+      std::string line = quote(exe);
+      for (const std::string& a : s.args) line += " " + quote(a);
+      // error writes its report to stdout: keep it as the stage's output file too.
+      line += s.name == "error" ? " > " + quote(errors) + " 2> " + quote(log) : " > " + quote(log) + " 2>&1";
+      const auto t0 = std::chrono::steady_clock::now();
+      const int rc = std::system(line.c_str());
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      times.emplace_back(s.name, secs);
+      if (rc != 0 && s.name == "plot") {  // pictures are a bonus: report, do not fail the run
+        std::printf(" failed (see %s); continuing without pictures\n", log.c_str());
+        continue;
+      }
+      if (rc != 0) {
+        std::printf(" failed after %s (see %s)\n", format_seconds(secs).c_str(), s.name == "error" ? errors.c_str() : log.c_str());
+        if (s.name == "error") fs::remove(errors);
+        throw ExitCode{1};
+      }
+      write_stage_stamp(stamp, settings);
+      std::printf(" done in %s\n", format_seconds(secs).c_str());
+    }
+
+    // The report.
+    std::printf("\nreport (%s)\n", o->run.c_str());
+    Model m = read_model(model);
+    std::printf("  %zu terms; final validation loss per term:", m.networks.size());
+    for (const ModelNetwork& n : m.networks)
+      std::printf(" %s:%.2e", n.term.name.c_str(), n.history.size() ? n.history.val_loss.back() : 0.0);
+    std::printf("\n");
+    std::ifstream csv(errors_csv);
+    std::string row;
+    double worst = 0;
+    std::string E = "?";
+    while (std::getline(csv, row)) {
+      std::vector<std::string> cols;
+      std::stringstream ss(row);
+      std::string c;
+      while (std::getline(ss, c, ',')) cols.push_back(c);
+      if (cols.size() >= 3 && cols[0] == "E") E = cols[2];
+      if (cols.size() >= 10 && cols[0] != "term" && cols[0] != "E" && !cols[9].empty()) worst = std::max(worst, std::stod(cols[9]));
+    }
+    std::printf("  quadratic expansion error E (Eq. 4) = %s J/m^2; worst bake deviation %.2e of a term's range\n", E.c_str(), worst);
+    for (const auto& [name, secs] : times) std::printf("  %s: %s\n", name.c_str(), format_seconds(secs).c_str());
+    std::printf("  total %s\n", format_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_all).count()).c_str());
+    std::printf("  metrics: %s\n  pictures: %s\n", errors.c_str(), (run / "plots").string().c_str());
+  });
+}
+
+}  // namespace yarnhom::tools
