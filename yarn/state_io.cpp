@@ -1,0 +1,134 @@
+#include "yarn/state_io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/h5.hpp"
+#include "yarn/frames.hpp"
+
+namespace yarnhom::yarn {
+
+void write_state(const std::string& path, const RveProblem& rve, const Strain& s,
+                 const RveState& st, const DensityResult& r) {
+  const int n = rve.pattern().size();
+  AtomicOutput out(path);
+  {
+    h5::Node root = h5::create_file(out.temp_path());
+    root.set_attr("format", kStateFormat);
+    root.set_attr("version", 1);
+    root.set_attr("pattern", rve.pattern().name);
+    root.set_attr("units", "SI");
+    root.set_attr("strain", std::vector<double>(s.data(), s.data() + 6));
+    root.set_attr("psi", r.psi);
+    root.set_attr("grad", std::vector<double>(r.grad.data(), r.grad.data() + 6));
+    root.set_attr("energy", r.report.energy);
+    root.set_attr("converged", r.report.converged() ? 1 : 0);
+    root.set_attr("status", to_string(r.report.status));
+    root.set_attr("iterations", r.report.iterations);
+    root.set_attr("residual", r.report.residual);
+    root.set_attr("seconds", r.report.seconds);
+    root.set_attr("material", format_material(rve.material()));
+    const Eigen::VectorXd q = st.packed();
+    root.write("q", std::vector<double>(q.data(), q.data() + q.size()), {hsize_t(n), 4});
+    std::vector<double> x, t, d1;
+    for (const auto& p : rve.positions(s, st)) x.insert(x.end(), {p[0], p[1], p[2]});
+    for (const auto& f : st.frames.edge) {
+      t.insert(t.end(), {f.t[0], f.t[1], f.t[2]});
+      d1.insert(d1.end(), {f.d1[0], f.d1[1], f.d1[2]});
+    }
+    root.write("positions", x, {hsize_t(n), 3});
+    h5::Node fr = root.create_group("frames");
+    fr.write("t", t, {hsize_t(n), 3});
+    fr.write("d1", d1, {hsize_t(n), 3});
+    fr.write("twist", st.frames.twist, {hsize_t(n)});
+  }
+  out.commit();
+}
+
+RveState read_state(const std::string& path, const RveProblem& rve) {
+  const h5::Node root = h5::open_file(path);
+  if (!root.has_attr("format") || root.attr_string("format") != kStateFormat)
+    root.fail("/", std::string("not a yarnhom RVE state (attribute format != \"") + kStateFormat + "\")");
+  const int n = rve.pattern().size();
+  const auto q = root.read_double("q");
+  if (q.dims.size() != 2 || int(q.rows()) != n || q.cols() != 4)
+    root.fail("q", "expected shape [" + std::to_string(n) + ", 4] for pattern '" + rve.pattern().name + "'");
+  RveState st = rve.initial_state();
+  for (int v = 0; v < n; ++v) {
+    st.u[v] = Eigen::Vector3d(q.data[4 * v], q.data[4 * v + 1], q.data[4 * v + 2]);
+    st.theta[v] = q.data[4 * v + 3];
+    if (!st.u[v].allFinite() || !std::isfinite(st.theta[v])) root.fail("q", "non-finite value at vertex " + std::to_string(v));
+  }
+  if (root.has("frames")) {
+    const h5::Node fr = root.group("frames");
+    const auto t = fr.read_double("t"), d1 = fr.read_double("d1"), tw = fr.read_double("twist");
+    if (int(t.rows()) != n || int(d1.rows()) != n || int(tw.data.size()) != n)
+      fr.fail("", "frame arrays do not have " + std::to_string(n) + " rows");
+    for (int v = 0; v < n; ++v) {
+      st.frames.edge[v] = {Eigen::Vector3d(t.data[3 * v], t.data[3 * v + 1], t.data[3 * v + 2]),
+                           Eigen::Vector3d(d1.data[3 * v], d1.data[3 * v + 1], d1.data[3 * v + 2])};
+      st.frames.twist[v] = tw.data[v];
+    }
+  }
+  return st;
+}
+
+void write_obj(const std::string& path, const RveProblem& rve, const Strain& s,
+               const RveState& st, int sides) {
+  const Topology& topo = rve.topo();
+  const double r = rve.radius();
+  AtomicOutput out(path);
+  {
+    std::ofstream f(out.temp_path());
+    if (!f) throw FileError(path, "", "cannot open for writing");
+    f << "# yarnhom rve: pattern " << rve.pattern().name << ", one tube per yarn over one period\n";
+    char buf[160];
+    long next_index = 1;
+    for (size_t y = 0; y < topo.yarns.size(); ++y) {
+      // The yarn's centreline through the images, closed on the first vertex's image.
+      std::vector<Eigen::Vector3d> c;
+      Eigen::Vector2i o = Eigen::Vector2i::Zero();
+      for (int v : topo.yarns[y]) {
+        c.push_back(rve.position(s, st, v, o));
+        o += topo.offset[v];
+      }
+      c.push_back(rve.position(s, st, topo.yarns[y][0], o));
+      const int m = static_cast<int>(c.size());
+      f << "o yarn" << y << "\n";
+      // Ring frames by parallel transport along the centreline: no twisting of the mesh.
+      Eigen::Vector3d t0 = (c[1] - c[0]).normalized();
+      Eigen::Vector3d a = std::abs(t0[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+      Eigen::Vector3d d = (a - a.dot(t0) * t0).normalized();
+      Eigen::Vector3d tprev = t0;
+      for (int k = 0; k < m; ++k) {
+        const Eigen::Vector3d t = k == 0 ? t0 : k + 1 < m ? (c[k + 1] - c[k - 1]).normalized() : (c[k] - c[k - 1]).normalized();
+        const V3<double> dd = transport_same(V3<double>(tprev), V3<double>(t), V3<double>(d));
+        d = Eigen::Vector3d(dd.x, dd.y, dd.z);
+        d = (d - d.dot(t) * t).normalized();
+        tprev = t;
+        const Eigen::Vector3d e = t.cross(d);
+        for (int j = 0; j < sides; ++j) {
+          const double phi = 2 * M_PI * j / sides;
+          const Eigen::Vector3d p = c[k] + r * (std::cos(phi) * d + std::sin(phi) * e);
+          std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+          f << buf;
+        }
+      }
+      for (int k = 0; k + 1 < m; ++k)
+        for (int j = 0; j < sides; ++j) {
+          const long a0 = next_index + k * sides + j, a1 = next_index + k * sides + (j + 1) % sides;
+          const long b0 = a0 + sides, b1 = a1 + sides;
+          std::snprintf(buf, sizeof buf, "f %ld %ld %ld %ld\n", a0, a1, b1, b0);
+          f << buf;
+        }
+      next_index += long(m) * sides;
+    }
+    if (!f) throw FileError(path, "", "write failed");
+  }
+  out.commit();
+}
+
+}  // namespace yarnhom::yarn

@@ -1,0 +1,35 @@
+#pragma once
+// Writing and reading an RVE solution (HDF5), and a tube mesh of the yarns (OBJ) for looking
+// at it in any 3D viewer.
+//
+// State file:
+//   /            attrs: format="yarnhom-rve-state", version=1, pattern, units="SI",
+//                       strain[6], psi (J/m^2), grad[6], energy (J), converged (0/1),
+//                       status, iterations, residual, seconds, material (text)
+//   /q           float64 [n, 4]  per vertex: u (local mid-surface frame, m), theta (rad)
+//                                 (supplement Eq. 1 layout)
+//   /positions   float64 [n, 3]  deformed centreline vertices of the base tile (m)
+//   /frames/t    float64 [n, 3]  reference frames the solve used (rest tangents ...)
+//   /frames/d1   float64 [n, 3]  (... and directors), and the reference twists:
+//   /frames/twist float64 [n]
+#include <string>
+
+#include "yarn/energy_density.hpp"
+
+namespace yarnhom::yarn {
+
+inline constexpr const char* kStateFormat = "yarnhom-rve-state";
+
+void write_state(const std::string& path, const RveProblem& rve, const Strain& s,
+                 const RveState& state, const DensityResult& result);
+
+// Reads a state to warm start from; refuses (FileError naming file and object) a file of
+// another format or of another vertex count than the problem's pattern.
+RveState read_state(const std::string& path, const RveProblem& rve);
+
+// Tube mesh: each yarn followed for one period through the periodic images, a ring of
+// `sides` vertices around each centreline vertex, radius = the yarn radius.
+void write_obj(const std::string& path, const RveProblem& rve, const Strain& s,
+               const RveState& state, int sides = 8);
+
+}  // namespace yarnhom::yarn
