@@ -209,7 +209,7 @@ TEST(Rve, EnvelopeGradientMatchesFiniteDifferencesOfPsi) {
     const DensityResult rp = energy_density(rve, sp, a, opt), rm = energy_density(rve, sm, b, opt);
     ASSERT_TRUE(rp.report.converged() && rm.report.converged());
     const double fd = (rp.psi - rm.psi) / (2 * h);
-    EXPECT_NEAR(r.grad[k], fd, 1e-5 * r.grad.norm() + 1e-4 * std::abs(fd)) << "component " << k;
+    EXPECT_NEAR(r.grad[k], fd, 1e-7 * r.grad.norm() + 1e-6 * std::abs(fd)) << "component " << k;
   }
 }
 
