@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/jet_layout.hpp"
+#include "cpu/flush_denormals.hpp"
 #include "cpu/loss_stencil.hpp"
 #include "cpu/losses.hpp"
 
@@ -97,6 +98,7 @@ LossValues mlp_loss_grad(const NetworkDesc& desc, const T* params, const LossBat
   std::vector<LossSums<T>> sums(tasks);
 
   auto run_task = [&](int t) {
+    flush_denormals();
     T* g = nullptr;
     if (grad) {
       ws.grad[t].assign(P, T(0));

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cpu/flush_denormals.hpp"
 #include "train/backend.hpp"
 #include "train/epoch_plan.hpp"
 
@@ -62,6 +63,7 @@ class CpuBackend final : public Backend {
 
  private:
   EpochStats epoch_one(CpuNetwork& n, int epoch, double lr, int threads) {
+    cpu::flush_denormals();
     const double t0 = omp_get_wtime();
     const NetworkJob& job = *n.job;
     const int d = job.desc.input_dim, N = job.n_train, B = job.batch_size, K = cfg_.off_domain;
