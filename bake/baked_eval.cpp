@@ -45,8 +45,9 @@ void partials_1d(const BakedTerm& t, double x, double D[4]) {
     D[a] = s * (p[a][0] * c[0] + p[a][1] * c[1] + p[a][2] * c[2] + p[a][3] * c[3]);
 }
 
-// Partials D[a][b] (a, b <= 3) of a 2D table at (x, y) inside the box, physical units.
-void partials_2d(const BakedTerm& t, double x, double y, double D[4][4]) {
+// Partials D[a][b] (a < na, b < nb; na, nb <= 4) of a 2D table at (x, y) inside the box,
+// physical units. Only what the caller needs is computed: the simulator's calls want na, nb <= 3.
+void partials_2d(const BakedTerm& t, double x, double y, int na, int nb, double D[4][4]) {
   double u, v;
   const int i = locate(t, 0, x, u), j = locate(t, 1, y, v);
   const double* A = t.coef.data() + 16 * (size_t(i) * (t.n[1] - 1) + j);
@@ -54,17 +55,19 @@ void partials_2d(const BakedTerm& t, double x, double y, double D[4][4]) {
   power_derivs(u, pu);
   power_derivs(v, pv);
   double R[4][4];  // R[b][k] = sum_l A[k][l] pv[b][l]
-  for (int b = 0; b < 4; ++b)
+  for (int b = 0; b < nb; ++b)
     for (int k = 0; k < 4; ++k)
       R[b][k] = A[4 * k] * pv[b][0] + A[4 * k + 1] * pv[b][1] + A[4 * k + 2] * pv[b][2] +
                 A[4 * k + 3] * pv[b][3];
   double sa = 1;
-  for (int a = 0; a < 4; ++a, sa *= t.inv_h[0]) {
+  for (int a = 0; a < na; ++a, sa *= t.inv_h[0]) {
     double sb = sa;
-    for (int b = 0; b < 4; ++b, sb *= t.inv_h[1])
+    for (int b = 0; b < nb; ++b, sb *= t.inv_h[1])
       D[a][b] = sb * (pu[a][0] * R[b][0] + pu[a][1] * R[b][1] + pu[a][2] * R[b][2] + pu[a][3] * R[b][3]);
   }
 }
+
+void partials_2d(const BakedTerm& t, double x, double y, double D[4][4]) { partials_2d(t, x, y, 4, 4, D); }
 
 // Weights w[m][i] with which the m-th derivative along one axis combines the partials D_i at
 // the clamped point: inside, w = delta(i, m); outside by dx, the quadratic extension
@@ -255,18 +258,21 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
   }
   const double xc = std::clamp(s[0], t.lo[0], t.hi[0]), yc = std::clamp(s[1], t.lo[1], t.hi[1]);
   const bool ox = s[0] != xc, oy = s[1] != yc;
+  // Partials needed: along an axis inside, up to the requested order; outside, up to 2 (the
+  // extension is quadratic in the outside coordinate).
+  const int na = ox ? 3 : order + 1, nb = oy ? 3 : order + 1;
   double D[4][4], wx[4][4], wy[4][4];
-  partials_2d(t, xc, yc, D);
+  partials_2d(t, xc, yc, na, nb, D);
   // In a corner the extension drops the D_22 term (see the header).
   if (ox && oy) D[2][2] = 0;
   axis_weights(ox, s[0] - xc, wx);
   axis_weights(oy, s[1] - yc, wy);
   auto deriv = [&](int m, int n) {
     double acc = 0;
-    for (int i = 0; i < 4; ++i) {
+    for (int i = 0; i < na; ++i) {
       if (wx[m][i] == 0) continue;
       double r = 0;
-      for (int j = 0; j < 4; ++j) r += wy[n][j] * D[i][j];
+      for (int j = 0; j < nb; ++j) r += wy[n][j] * D[i][j];
       acc += wx[m][i] * r;
     }
     return acc;
@@ -288,9 +294,18 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
 }
 
 BakedJet1 eval_baked_1d(const BakedTerm& t, double x) {
-  double j[3];
-  eval_baked_jet(t, &x, 2, j);
-  return {j[0], j[1], j[2]};
+  if (x < t.lo[0] || x > t.hi[0]) {
+    double j[3];
+    eval_baked_jet(t, &x, 2, j);
+    return {j[0], j[1], j[2]};
+  }
+  // Inside: the cell's cubic and its two derivatives.
+  double u;
+  const int i = locate(t, 0, x, u);
+  const double* c = t.coef.data() + 4 * size_t(i);
+  const double ih = t.inv_h[0];
+  return {c[0] + u * (c[1] + u * (c[2] + u * c[3])), ih * (c[1] + u * (2 * c[2] + 3 * u * c[3])),
+          ih * ih * (2 * c[2] + 6 * u * c[3])};
 }
 
 BakedJet2 eval_baked_2d(const BakedTerm& t, const Eigen::Vector2d& s) {
