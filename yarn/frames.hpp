@@ -11,13 +11,16 @@ namespace yarnhom::yarn {
 // |a x b| (smooth at a = b, which is where the time-parallel transport of a frame is
 // evaluated at every accepted Newton step):  P v = c v + w x v + w (w.v)/(1 + c),
 // c = a.b, w = a x b. Undefined only for antiparallel a, b.
-template <class T, class S>
-inline V3<T> transport(const V3<S>& a, const V3<T>& b, const V3<S>& v) {
-  const T c = dot(V3<T>(T(a.x), T(a.y), T(a.z)), b);
-  const V3<T> at(T(a.x), T(a.y), T(a.z));
-  const V3<T> vt(T(v.x), T(v.y), T(v.z));
-  const V3<T> w = cross(at, b);
-  return c * vt + cross(w, vt) + (dot(w, vt) / (c + 1.0)) * w;
+// Transport of a constant vector v from a constant axis a to a variable axis b: only b carries
+// derivatives, so constant factors stay plain doubles (much cheaper with Jets).
+template <class T>
+inline V3<T> transport(const V3<double>& a, const V3<T>& b, const V3<double>& v) {
+  const T c = b.x * a.x + b.y * a.y + b.z * a.z;
+  const V3<T> w(b.z * a.y - b.y * a.z, b.x * a.z - b.z * a.x, b.y * a.x - b.x * a.y);  // a x b
+  const T wv = w.x * v.x + w.y * v.y + w.z * v.z;
+  const V3<T> wxv(w.y * v.z - w.z * v.y, w.z * v.x - w.x * v.z, w.x * v.y - w.y * v.x);
+  const V3<T> cv(c * v.x, c * v.y, c * v.z);
+  return cv + wxv + (wv / (c + 1.0)) * w;
 }
 template <class T>
 inline V3<T> transport_same(const V3<T>& a, const V3<T>& b, const V3<T>& v) {

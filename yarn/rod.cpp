@@ -36,17 +36,20 @@ struct JointGeom {
 
 // Everything the joint energy needs, for any scalar: the single definition that the double
 // energy, its Jet derivatives and the reports share.
+// Everything the joint energy needs, for any scalar, from the two edge vectors and the two
+// twist angles (the energy depends on the three points only through e_in = x - x_prev and
+// e_out = x_next - x: 8 inputs instead of 11, which roughly halves the cost of the exact
+// Hessian): the single definition that the double energy, its Jet derivatives and the
+// reports share.
 template <class T>
-JointGeom<T> joint_geometry(const V3<T>& xa, const V3<T>& xv, const V3<T>& xb, const T& th_in,
-                            const T& th_out, const JointFrames& f) {
+JointGeom<T> joint_geometry(const V3<T>& ein, const V3<T>& eout, const T& th_in, const T& th_out,
+                            const JointFrames& f) {
   using std::cos;
   using std::sin;
-  const V3<T> ein = xv - xa, eout = xb - xv;
   const V3<T> tin = (1.0 / norm(ein)) * ein;
   const V3<T> tout = (1.0 / norm(eout)) * eout;
-  const V3<double> tin0(f.in.t), tout0(f.out.t), d1in0(f.in.d1), d1out0(f.out.d1);
-  const V3<T> d1in = transport(tin0, tin, d1in0);
-  const V3<T> d1out = transport(tout0, tout, d1out0);
+  const V3<T> d1in = transport(V3<double>(f.in.t), tin, V3<double>(f.in.d1));
+  const V3<T> d1out = transport(V3<double>(f.out.t), tout, V3<double>(f.out.d1));
   const V3<T> d2in = cross(tin, d1in), d2out = cross(tout, d1out);
   const T ci = cos(th_in), si = sin(th_in), co = cos(th_out), so = sin(th_out);
   const V3<T> m1in = ci * d1in + si * d2in, m2in = ci * d2in - si * d1in;
@@ -62,11 +65,12 @@ JointGeom<T> joint_geometry(const V3<T>& xa, const V3<T>& xv, const V3<T>& xb, c
   return r;
 }
 
+// q8 = [e_in, e_out, theta_in, theta_out].
 template <class T>
 T joint_energy_t(const T* q, const JointFrames& f, const JointRest& rest, double EI, double GJ,
                  int terms) {
-  const V3<T> xa(q[0], q[1], q[2]), xv(q[3], q[4], q[5]), xb(q[6], q[7], q[8]);
-  const JointGeom<T> g = joint_geometry(xa, xv, xb, q[9], q[10], f);
+  const V3<T> ein(q[0], q[1], q[2]), eout(q[3], q[4], q[5]);
+  const JointGeom<T> g = joint_geometry(ein, eout, q[6], q[7], f);
   T e(0.0);
   if (terms & kBend) {
     const T d1 = g.k1 - rest.kappa[0], d2 = g.k2 - rest.kappa[1];
@@ -79,16 +83,36 @@ T joint_energy_t(const T* q, const JointFrames& f, const JointRest& rest, double
   return e;
 }
 
+// d q8 / d q11: e_in = x - x_prev, e_out = x_next - x, angles unchanged.
+Eigen::Matrix<double, 8, 11> edge_map() {
+  Eigen::Matrix<double, 8, 11> D = Eigen::Matrix<double, 8, 11>::Zero();
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  D.block<3, 3>(0, 0) = -I;
+  D.block<3, 3>(0, 3) = I;
+  D.block<3, 3>(3, 3) = -I;
+  D.block<3, 3>(3, 6) = I;
+  D(6, 9) = D(7, 10) = 1;
+  return D;
+}
+
+Eigen::Matrix<double, 8, 1> to_edges(const Vec11& q) {
+  Eigen::Matrix<double, 8, 1> e;
+  e << q.segment<3>(3) - q.segment<3>(0), q.segment<3>(6) - q.segment<3>(3), q[9], q[10];
+  return e;
+}
+
 }  // namespace
 
 double joint_energy(const Vec11& q, const JointFrames& f, const JointRest& rest, double EI,
                     double GJ, int terms, Vec11* g, Mat11* H) {
-  if (!g && !H) return joint_energy_t<double>(q.data(), f, rest, EI, GJ, terms);
-  Jet<11> qj[11];
-  for (int i = 0; i < 11; ++i) qj[i] = Jet<11>::variable(i, q[i]);
-  const Jet<11> e = joint_energy_t<Jet<11>>(qj, f, rest, EI, GJ, terms);
-  if (g) *g = e.g;
-  if (H) *H = e.h;
+  const Eigen::Matrix<double, 8, 1> q8 = to_edges(q);
+  if (!g && !H) return joint_energy_t<double>(q8.data(), f, rest, EI, GJ, terms);
+  Jet<8> qj[8];
+  for (int i = 0; i < 8; ++i) qj[i] = Jet<8>::variable(i, q8[i]);
+  const Jet<8> e = joint_energy_t<Jet<8>>(qj, f, rest, EI, GJ, terms);
+  static const Eigen::Matrix<double, 8, 11> D = edge_map();
+  if (g) *g = D.transpose() * e.g;
+  if (H) *H = D.transpose() * e.h * D;
   return e.v;
 }
 
@@ -107,8 +131,9 @@ double reference_twist(const Eigen::Vector3d& t_in, const Eigen::Vector3d& d1_in
 }
 
 JointStrain joint_strain(const Vec11& q, const JointFrames& f) {
-  const V3<double> xa(q[0], q[1], q[2]), xv(q[3], q[4], q[5]), xb(q[6], q[7], q[8]);
-  const JointGeom<double> g = joint_geometry(xa, xv, xb, q[9], q[10], f);
+  const Eigen::Matrix<double, 8, 1> q8 = to_edges(q);
+  const JointGeom<double> g =
+      joint_geometry(V3<double>(q8[0], q8[1], q8[2]), V3<double>(q8[3], q8[4], q8[5]), q8[6], q8[7], f);
   return {g.k1, g.k2, g.twist};
 }
 

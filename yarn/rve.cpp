@@ -205,7 +205,8 @@ void RveProblem::scatter(int nslots, const Node* const* nodes, const int* verts,
   if (hess && Hl) {
     const Eigen::Matrix<double, M, M> Hr = P.transpose() * (*Hl) * P;
     for (int i = 0; i < k; ++i)
-      for (int j = 0; j < k; ++j) hess->emplace_back(idx[i], idx[j], Hr(i, j));
+      for (int j = 0; j < k; ++j)
+        if (idx[i] >= idx[j]) hess->emplace_back(idx[i], idx[j], Hr(i, j));  // lower triangle
   }
 }
 
@@ -294,13 +295,27 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   if (dEds) dEds->setZero();
   EnergyParts e;
   const bool derivs = grad || hess || dEds;
-  std::vector<Node> base(n);
-  for (int v = 0; v < n; ++v) base[v] = node(s, st, v, Eigen::Vector2i::Zero(), ds);
+  // Every point is computed once: the base tile, each vertex's neighbours along its yarn, and
+  // (below) the images that contact pairs use.
+  std::vector<Node> base(n), nxt(n), prv(n);
+  for (int v = 0; v < n; ++v) {
+    base[v] = node(s, st, v, Eigen::Vector2i::Zero(), ds);
+    nxt[v] = node(s, st, topo_.next[v], topo_.offset[v], ds);
+    prv[v] = node(s, st, topo_.prev[v], -topo_.offset[topo_.prev[v]], ds);
+  }
+  std::unordered_map<uint64_t, Node> images;
+  auto image = [&](int v, Eigen::Vector2i o) -> const Node& {
+    if (o.isZero()) return base[v];
+    const uint64_t key = (uint64_t(v) << 16) | (uint64_t(o[0] + 128) << 8) | uint64_t(o[1] + 128);
+    auto it = images.find(key);
+    if (it == images.end()) it = images.emplace(key, node(s, st, v, o, ds)).first;
+    return it->second;
+  };
 
   // Stretch, per edge (the vertex's outgoing edge).
   for (int v = 0; v < n; ++v) {
     const int w = topo_.next[v];
-    const Node nw = node(s, st, w, topo_.offset[v], ds);
+    const Node& nw = nxt[v];
     Vec6 g;
     Mat6 H;
     e.stretch += stretch_energy(base[v].x, nw.x, p_.rest_length[v], EA_, derivs ? &g : nullptr,
@@ -314,8 +329,8 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   // Bend and twist, per joint.
   for (int v = 0; v < n; ++v) {
     const int a = topo_.prev[v], b = topo_.next[v];
-    const Node na = node(s, st, a, -topo_.offset[a], ds);
-    const Node nb = node(s, st, b, topo_.offset[v], ds);
+    const Node& na = prv[v];
+    const Node& nb = nxt[v];
     Vec11 q;
     q << na.x, base[v].x, nb.x, st.theta[a], st.theta[v];
     // The stored frames are rest-state (s = 0) vectors; each joint carries them with its own
@@ -355,9 +370,9 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   const double margin = hess ? opt_.hessian_margin * p_.radius : 0.0;
   for (const Pair& pr : contact_pairs(s, st, margin)) {
     const int a1 = topo_.next[pr.a], b1 = topo_.next[pr.b];
-    const Node na1 = node(s, st, a1, topo_.offset[pr.a], ds);
-    const Node nb0 = node(s, st, pr.b, pr.o, ds);
-    const Node nb1 = node(s, st, b1, pr.o + topo_.offset[pr.b], ds);
+    const Node& na1 = nxt[pr.a];
+    const Node& nb0 = image(pr.b, pr.o);
+    const Node& nb1 = image(b1, pr.o + topo_.offset[pr.b]);
     Vec12 q;
     q << base[pr.a].x, na1.x, nb0.x, nb1.x;
     Vec12 g;

@@ -74,9 +74,9 @@ class RveProblem {
   // u = 0, theta, frames and reference twists from the pattern.
   RveState initial_state() const;
 
-  // Energy at s; with grad: the gradient in the reduced unknowns; with hess: the full
-  // symmetric Hessian as triplets (duplicates summed by the caller's setFromTriplets); with
-  // dEds: dE/ds at fixed unknowns.
+  // Energy at s; with grad: the gradient in the reduced unknowns; with hess: the lower
+  // triangle (row >= col) of the symmetric Hessian as triplets (duplicates summed by the
+  // caller's setFromTriplets); with dEds: dE/ds at fixed unknowns.
   double evaluate(const Strain& s, const RveState& st, Eigen::VectorXd* grad = nullptr,
                   std::vector<Eigen::Triplet<double>>* hess = nullptr, EnergyParts* parts = nullptr,
                   Strain* dEds = nullptr) const;

@@ -41,8 +41,10 @@ Eigen::MatrixXd dense_hessian(const RveProblem& rve, const Strain& s, const RveS
   Eigen::VectorXd g;
   rve.evaluate(s, st, &g, &trip);
   Eigen::SparseMatrix<double> H(rve.num_dofs(), rve.num_dofs());
+  for (const auto& t : trip) EXPECT_GE(t.row(), t.col()) << "only the lower triangle is assembled";
   H.setFromTriplets(trip.begin(), trip.end());
-  return Eigen::MatrixXd(H);
+  const Eigen::SparseMatrix<double> full = H.selfadjointView<Eigen::Lower>();
+  return Eigen::MatrixXd(full);
 }
 
 // The paper's tiny stockinette when the shared patterns are there, else the generated one:
