@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# One call on the GPU machine: build, CUDA tests, kernel benchmarks, train-all timings (CUDA,
+# CPU for reference, the PyTorch peer on the same GPU), and the CLI error paths. Logs go to
+# $OUT (or ./device-out). Usage, from the repository root:
+#   bash cuda/device_check.sh [build] [tests] [bench] [train] [torch] [faults]   (default: all)
+# Needs .devdeps/ (../shared/tools/device-deps) on a machine without a package registry.
+set -u -o pipefail
+OUT=${OUT:-$PWD/device-out}
+mkdir -p "$OUT"
+steps=${*:-build tests bench train torch faults}
+has() { [[ " $steps " == *" $1 "* ]]; }
+[ -f .devdeps/env.sh ] && source .devdeps/env.sh
+B=build-gpu
+nvidia-smi --query-gpu=name,driver_version,clocks.max.sm,memory.total --format=csv | tee "$OUT/gpu.txt"
+nproc >> "$OUT/gpu.txt"
+
+if has build; then
+  t0=$(date +%s)
+  cmake -S . -B $B ${DEVDEPS_CMAKE_ARGS:-} -DYARNHOM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90 \
+    -DCMAKE_BUILD_TYPE=Release > "$OUT/build.log" 2>&1 &&
+    make -C $B -j"$(nproc)" yarnhom test_cuda bench_cuda >> "$OUT/build.log" 2>&1
+  rc=$?
+  echo "build rc=$rc in $(( $(date +%s) - t0 )) s"
+  [ $rc -ne 0 ] && { tail -40 "$OUT/build.log"; exit 1; }
+fi
+Y=$B/tools/yarnhom
+
+if has tests; then
+  $B/tests/test_cuda --gtest_color=no 2>&1 | tee "$OUT/test_cuda.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |FAILED|rel |worst|oom|launch:|Failure|Expected|actual|Which is" | head -60
+fi
+
+if has bench; then
+  $B/tools/bench_cuda --benchmark_out="$OUT/bench_cuda.json" --benchmark_out_format=json \
+    > "$OUT/bench_cuda.log" 2>&1
+  echo "bench rc=$?"
+  grep -E "^GPU|BM_" "$OUT/bench_cuda.log" | sed -E 's/ +/ /g' | cut -c1-170
+fi
+
+if has train || has torch || has faults; then
+  $Y synth --preset paper -o /tmp/paper.h5 > /dev/null && $Y synth --preset quick -o /tmp/quick.h5 > /dev/null
+fi
+
+if has train; then
+  for r in 1 2 3; do
+    /usr/bin/time -f "cuda train-all paper run $r: %e s wall (process)" \
+      $Y train-all /tmp/paper.h5 -o /tmp/model_cuda_$r.h5 --backend cuda -q > "$OUT/train_cuda_$r.log" 2>&1
+    echo "rc=$?"; tail -1 "$OUT/train_cuda_$r.log"; grep "total wall" "$OUT/train_cuda_$r.log"
+  done
+  cat "$OUT/train_cuda_1.log" | head -20
+  cmp /tmp/model_cuda_1.h5 /tmp/model_cuda_2.h5 && echo "paper models of runs 1 and 2: identical files"
+  /usr/bin/time -f "cpu train-all paper 50 epochs: %e s" \
+    $Y train-all /tmp/paper.h5 -o /tmp/model_cpu50.h5 --backend cpu --epochs 50 -q > "$OUT/train_cpu50.log" 2>&1
+  grep "total wall" "$OUT/train_cpu50.log"; tail -1 "$OUT/train_cpu50.log"
+  cp /tmp/model_cuda_1.h5 "$OUT/model_cuda_paper.h5"
+fi
+
+if has torch; then
+  PYTHONUNBUFFERED=1 timeout 300 python3 tools/reference/yarnhom_ref.py train /tmp/paper.h5 --epochs 3 --device cuda \
+    2>&1 | tee "$OUT/torch_peer.log" | tail -16
+fi
+
+if has faults; then
+  for f in oom launch; do
+    rm -f /tmp/fault.h5
+    YARNHOM_CUDA_FAULT=$f $Y train-all /tmp/quick.h5 -o /tmp/fault.h5 --backend cuda --epochs 3 -q > "$OUT/fault_$f.log" 2>&1
+    echo "fault $f: exit $? ; model file $( [ -e /tmp/fault.h5 ] && echo WRITTEN || echo absent ); $(grep -h error "$OUT/fault_$f.log" | head -2)"
+  done
+  CUDA_VISIBLE_DEVICES= $Y train-all /tmp/quick.h5 -o /tmp/fault.h5 --backend cuda --epochs 3 -q > "$OUT/fault_nogpu.log" 2>&1
+  echo "no GPU visible: exit $? ; model file $( [ -e /tmp/fault.h5 ] && echo WRITTEN || echo absent ); $(grep -h error "$OUT/fault_nogpu.log" | head -2)"
+  CUDA_VISIBLE_DEVICES= $B/tests/test_cuda --gtest_color=no 2>&1 | tail -3
+fi
