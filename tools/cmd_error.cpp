@@ -52,7 +52,7 @@ struct Row {
   BakeDeviation dev;
 };
 
-void print_compare(const Model& model) {
+void print_compare(const Model& model, const std::vector<Term>& wanted) {
   // Supplement Table 4's resolutions: Bake-1..3.
   const int r1[3] = {100, 150, 200}, r2[3] = {25, 50, 100};
   std::printf("\nBake resolution against the network (supplement Table 4 analogue): max |baked - network| "
@@ -60,7 +60,10 @@ void print_compare(const Model& model) {
               "deviation relative to the largest gradient)\n");
   std::printf("%-5s  %-28s %-28s %-28s\n", "term", "Bake-1 (100 | 25x25)", "Bake-2 (150 | 50x50)", "Bake-3 (200 | 100x100)");
   double worst[3] = {0, 0, 0};
-  for (const ModelNetwork& net : model.networks) {
+  for (const Term& term : wanted) {
+    const ModelNetwork* found = model.find(term.name);
+    if (!found) continue;
+    const ModelNetwork& net = *found;
     std::printf("%-5s ", net.term.name.c_str());
     const auto ref = network_function(net);
     for (int k = 0; k < 3; ++k) {
@@ -223,7 +226,7 @@ void register_error(CLI::App& app) {
     }
     if (o->compare) {
       if (!model) throw std::invalid_argument("--compare needs the network: give --model MODEL.h5");
-      print_compare(*model);
+      print_compare(*model, wanted);
     }
     std::printf("\n(%.1fs)\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   });
