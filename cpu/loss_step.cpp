@@ -14,10 +14,7 @@ namespace yarnhom::cpu {
 
 namespace {
 
-template <class T>
-struct TaskSums {
-  LossSums<T> s;
-};
+constexpr int kParallelMinPoints = 512;
 
 // L_C by the stencil for the data points x[0..m): forward of the value at every tap, the
 // stencil sums, |.|, and (with grad) the reverse pass through the value jets.
@@ -128,7 +125,9 @@ LossValues mlp_loss_grad(const NetworkDesc& desc, const T* params, const LossBat
     }
   };
 
-  if (threads > 1 && tasks > 1) {
+  // A parallel region costs microseconds (far more when the cores are shared), as much as a
+  // whole small batch: spread only batches large enough to pay for it.
+  if (threads > 1 && tasks > 1 && batch.m + batch.k >= kParallelMinPoints) {
 #pragma omp parallel for num_threads(std::min(threads, tasks)) schedule(dynamic, 1)
     for (int t = 0; t < tasks; ++t) run_task(t);
   } else {
