@@ -7,8 +7,8 @@
 // hand, and one failing stage cannot leave the pipeline in a half state (outputs are atomic).
 //
 // PATTERN "synthetic" uses `synth` (the analytic stand-in, docs/synthetic.md). Any other PATTERN
-// needs the `produce` subcommand (the yarn RVE producer); the pipeline uses it when this build
-// has it and says so when it does not.
+// (a .pyp file or a built-in pattern name) goes to the `produce` subcommand (the yarn RVE
+// producer); the pipeline uses it when this build has it and says so when it does not.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -56,7 +56,7 @@ void register_pipeline(CLI::App& app) {
       "train-all -> bake -> error -> plot. Each stage is skipped when its output exists, is newer "
       "than its input and was made with the same settings, so a rerun after an interruption "
       "continues. Ends with a short report. Stage logs: RUN_DIR/logs/.");
-  cmd->add_option("PATTERN", o->pattern, "A .pyp pattern for produce, or 'synthetic'")->required();
+  cmd->add_option("PATTERN", o->pattern, "A pattern for produce (.pyp file or built-in name), or 'synthetic'")->required();
   cmd->add_option("-o,--output", o->run, "Run folder (created)")->required();
   cmd->add_option("--preset", o->preset, "Sampling density: quick or paper")
       ->check(CLI::IsMember({"quick", "paper"}))
@@ -82,12 +82,17 @@ void register_pipeline(CLI::App& app) {
     if (synthetic) {
       stages.push_back({"produce", {"synth", "-o", ds, "--preset", o->preset}, {}, {ds}});
     } else {
-      if (!fs::exists(o->pattern)) throw std::invalid_argument(o->pattern + ": no such pattern file (or use 'synthetic')");
       if (!have_produce)
         throw std::invalid_argument(
-            "this build has no 'produce' command (the yarn RVE producer is not finished), so only "
-            "PATTERN 'synthetic' can run; try: yarnhom pipeline synthetic -o " + o->run);
-      stages.push_back({"produce", {"produce", o->pattern, "-o", ds, "--preset", o->preset}, {o->pattern}, {ds}});
+            "this build has no 'produce' command (the yarn RVE producer), so only PATTERN "
+            "'synthetic' can run; try: yarnhom pipeline synthetic -o " + o->run);
+      // A pattern file is an input of the stage (rerun when it changes); a built-in pattern name
+      // is passed through for produce to resolve.
+      std::vector<std::string> in;
+      if (fs::exists(o->pattern)) in.push_back(o->pattern);
+      std::vector<std::string> args = {"produce", o->pattern, "-o", ds, "--preset", o->preset};
+      if (o->threads > 0) { args.push_back("--threads"); args.push_back(std::to_string(o->threads)); }
+      stages.push_back({"produce", args, in, {ds}});
     }
     std::vector<std::string> train = {"train-all", ds, "-o", model, "--backend", o->backend, "-q"};
     if (o->threads > 0) { train.push_back("--threads"); train.push_back(std::to_string(o->threads)); }
