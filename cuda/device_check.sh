@@ -36,7 +36,7 @@ if has bench; then
   grep -E "^GPU|BM_" "$OUT/bench_cuda.log" | sed -E 's/ +/ /g' | cut -c1-170
 fi
 
-if has train || has torch || has faults; then
+if has train || has torch || has faults || has sanitize; then
   $Y synth --preset paper -o /tmp/paper.h5 > /dev/null && $Y synth --preset quick -o /tmp/quick.h5 > /dev/null
 fi
 
@@ -81,6 +81,27 @@ fi
 if has torch; then
   PYTHONUNBUFFERED=1 timeout 300 python3 tools/reference/yarnhom_ref.py train /tmp/paper.h5 --epochs 3 --device cuda \
     2>&1 | tee "$OUT/torch_peer.log" | tail -16
+fi
+
+if has sanitize; then
+  # Races, barrier misuse and bad accesses in the twins and in the fused epoch kernel.
+  for tool in memcheck racecheck synccheck; do
+    compute-sanitizer --tool $tool --error-exitcode 9 $B/tests/test_cuda --gtest_filter='*FusedLossGrad*:*Backward*' \
+      > "$OUT/sanitize_tests_$tool.log" 2>&1
+    echo "compute-sanitizer $tool, kernel tests: exit $? $(grep -h 'ERROR SUMMARY' "$OUT/sanitize_tests_$tool.log" | tail -1)"
+    compute-sanitizer --tool $tool --error-exitcode 9 $Y train-all /tmp/quick.h5 -o /tmp/san.h5 --backend cuda --epochs 2 -q \
+      > "$OUT/sanitize_train_$tool.log" 2>&1
+    echo "compute-sanitizer $tool, train-all quick 2 epochs: exit $? $(grep -h 'ERROR SUMMARY' "$OUT/sanitize_train_$tool.log" | tail -1)"
+  done
+fi
+
+if has profile; then
+  ncu --clock-control none --kernel-name regex:loss_grad_kernel --launch-skip 3 --launch-count 1 \
+    --section SpeedOfLight --section ComputeWorkloadAnalysis --section WarpStateStats --section InstructionStats \
+    --section MemoryWorkloadAnalysis $B/tools/bench_cuda --benchmark_filter='BM_Cuda_FusedFwdBwd/2/65536/0/0' \
+    > "$OUT/ncu_loss_grad.log" 2>&1
+  echo "ncu rc=$?"
+  grep -E "Duration|Throughput|Pipe|Issue|Stall|Warp Cycles|Achieved Occupancy|Bank|Executed Ipc|Registers" "$OUT/ncu_loss_grad.log" | head -40
 fi
 
 if has faults; then
