@@ -25,10 +25,12 @@ inline void power_derivs(double u, double p[4][4]) {
 
 // Cell index and local coordinate of x on axis k; x is inside the box (clamped by the caller).
 // The last knot belongs to the last cell, so a boundary point uses the inside cell.
+// A NaN strain (a diverging simulation) takes cell 0 and comes out as NaN, never as an index
+// out of range.
 inline int locate(const BakedTerm& t, int k, double x, double& u) {
   const double q = (x - t.lo[k]) * t.inv_h[k];
-  int i = static_cast<int>(q);
-  i = std::clamp(i, 0, t.n[k] - 2);
+  const int last = t.n[k] - 2;
+  const int i = q >= 0 ? (q < last ? static_cast<int>(q) : last) : 0;
   u = q - i;
   return i;
 }

@@ -200,3 +200,18 @@ TEST(Safeguard, TamperedCoefficientsRefused) {
     EXPECT_NE(m.find("corner_upper_upper"), std::string::npos) << m;
   }
 }
+
+// A diverging simulation may pass NaN or infinite strains: the result is NaN or infinite, never
+// a crash or a read out of the table.
+TEST(Safeguard, NonFiniteStrainsGiveNonFiniteResults) {
+  ModelNetwork n2 = test::random_model_network("02", {-0.2, -0.2}, {1.0, 1.0}, 44);
+  BakedTerm t2 = make_baked_term(bake_network(n2, 200, 20));
+  ModelNetwork n1 = test::random_model_network("0", {-0.2}, {1.0}, 45);
+  BakedTerm t1 = make_baked_term(bake_network(n1, 50, 20));
+  const double nan = std::nan(""), inf = INFINITY;
+  EXPECT_TRUE(std::isnan(eval_baked_2d(t2, {nan, 0.3}).f));
+  EXPECT_TRUE(std::isnan(eval_baked_2d(t2, {0.3, nan}).g[1]));
+  EXPECT_FALSE(std::isfinite(eval_baked_2d(t2, {inf, 0.3}).f));
+  EXPECT_TRUE(std::isnan(eval_baked_1d(t1, nan).f));
+  EXPECT_FALSE(std::isfinite(eval_baked_1d(t1, -inf).f));
+}
