@@ -19,10 +19,11 @@ void register_error(CLI::App& app);  // tools/cmd_error.cpp
 void register_plot(CLI::App& app);   // tools/cmd_plot.cpp
 void register_pipeline(CLI::App& app);  // tools/cmd_pipeline.cpp
 void register_rve(CLI::App& app);       // tools/cmd_rve.cpp
+void register_produce(CLI::App& app);   // tools/cmd_produce.cpp
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
   return {register_synth, register_train, register_eval, register_bake, register_error, register_plot,
-          register_pipeline, register_rve};
+          register_pipeline, register_rve, register_produce};
 }
 
 }  // namespace yarnhom::tools

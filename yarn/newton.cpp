@@ -71,7 +71,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     }
     const Eigen::VectorXd diag = H.diagonal().cwiseAbs().cwiseMax(1e-300);
     Eigen::SparseMatrix<double> Hs;
-    mu = mu < 1e-8 ? 0.0 : mu / 10;
+    mu = mu < 1e-8 ? 0.0 : mu / 10;  // (after a failed line search: the raised mu, tenfold less)
     for (int tries = 0;; ++tries) {
       const Eigen::SparseMatrix<double>* M = &H;
       if (mu > 0) {
@@ -107,7 +107,13 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       }
       alpha *= 0.5;
     }
-    if (!accepted) return finish(SolveStatus::kLineSearchFailed);
+    if (!accepted) {
+      // The quadratic model was bad far from the minimum: shift harder (shorter, more
+      // gradient-like steps) and try again before giving up.
+      if (++rep.line_search_retries > 8) return finish(SolveStatus::kLineSearchFailed);
+      mu = std::max(mu * 100, 1e-3);
+      continue;
+    }
   }
 }
 

@@ -9,7 +9,8 @@
 // shift, scale-free because it is relative to each dof's own stiffness); mu starts each
 // iteration at a tenth of the last one used, so near the minimum it falls to zero and the
 // iteration is plain Newton with quadratic convergence. The step then decreases the energy
-// (Armijo backtracking). Convergence: the residual, the RMS of the gradient with twist
+// (Armijo backtracking); when no step length decreases it, the shift is raised (at least to
+// 1e-3, a hundredfold) and the iteration repeated, up to 8 times. Convergence: the residual, the RMS of the gradient with twist
 // moments divided by the yarn radius (forces), relative to the stretching stiffness EA,
 // falls below `tolerance`. The rods' reference frames stay fixed (FrameState in rve.hpp).
 #include <string>
@@ -35,6 +36,7 @@ struct SolveReport {
   double seconds = 0;
   int shifted = 0;       // iterations that needed the definiteness shift
   int analyses = 0;      // symbolic factorizations done
+  int line_search_retries = 0;  // line searches that failed and were retried with a larger shift
   bool converged() const { return status == SolveStatus::kConverged; }
   std::string summary() const;
 };

@@ -1,0 +1,312 @@
+#include "yarn/produce.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "yarn/energy_density.hpp"
+
+namespace yarnhom::yarn {
+
+int points_per_axis(const std::string& preset, int dim) {
+  if (preset == "quick") return dim == 1 ? 21 : 9;
+  if (preset == "paper") return dim == 1 ? 101 : 31;
+  if (preset == "tiny") return dim == 1 ? 5 : 3;  // for tests
+  throw std::invalid_argument("unknown preset '" + preset + "' (known: quick, paper)");
+}
+
+Range pattern_range(const std::string& pattern, int index, const std::map<int, Range>& overrides) {
+  auto it = overrides.find(index);
+  if (it != overrides.end()) return it->second;
+  double bx = 200, by = 200;
+  if (pattern == "stockinette") bx = 200, by = 230;
+  else if (pattern == "basket") bx = by = 170;
+  else if (pattern == "slip_stitch_honeycomb") bx = by = 120;
+  else if (pattern == "cartridge_belt_rib") bx = 100, by = 80;
+  return default_range(index, bx, by);
+}
+
+namespace {
+
+struct Node {
+  int term = 0, index = 0;   // term position in opt.terms, node index in term_nodes order
+  Eigen::VectorXd t;         // term coordinates
+  Strain s;
+  bool done = false, resumed = false;
+  double psi = 0;
+  Strain grad = Strain::Zero();
+  std::string status;
+  int iterations = 0;
+  double seconds = 0;
+};
+
+std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
+  std::ostringstream f;
+  f.precision(17);
+  f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance;
+  for (const auto& t : opt.terms) f << " " << t.name;
+  for (int i = 0; i < 6; ++i) {
+    const Range r = pattern_range(p.name, i, opt.ranges);
+    f << " [" << r.lower << "," << r.upper << "]";
+  }
+  std::string m = format_material(opt.material);
+  for (char& c : m)
+    if (c == '\n') c = ';';
+  return f.str() + " " + m;
+}
+
+}  // namespace
+
+Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  ProduceReport rep;
+  const RveProblem rve(pattern, opt.material);
+
+  // The rest state: the origin of every sector, and Psi0.
+  RveState rest = rve.initial_state();
+  SolveOptions rest_opt = opt.solve;
+  rest_opt.max_iterations = std::max(rest_opt.max_iterations, 500);
+  const DensityResult r0 = energy_density(rve, Strain::Zero(), rest, rest_opt);
+  rep.rest = r0.report;
+  if (!r0.report.converged())
+    throw std::runtime_error("produce: relaxing '" + pattern.name + "' at rest failed: " + r0.report.summary());
+
+  // Nodes of every term.
+  std::vector<Node> nodes;
+  std::vector<std::vector<int>> term_nodes_idx(opt.terms.size());
+  for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+    const Term& t = opt.terms[ti];
+    std::vector<Range> box;
+    for (int i : t.indices) box.push_back(pattern_range(pattern.name, i, opt.ranges));
+    const auto pts = term_nodes(t, box, points_per_axis(opt.preset, t.dim()));
+    for (size_t k = 0; k < pts.size(); ++k) {
+      Node n;
+      n.term = static_cast<int>(ti);
+      n.index = static_cast<int>(k);
+      n.t = pts[k];
+      n.s = Strain::Zero();
+      for (int d = 0; d < t.dim(); ++d) n.s[t.indices[d]] = pts[k][d];
+      if (n.t.norm() == 0) {  // the origin is the rest state
+        n.done = true;
+        n.psi = r0.psi;
+        n.grad = r0.grad;
+        n.status = "converged";
+      }
+      term_nodes_idx[ti].push_back(static_cast<int>(nodes.size()));
+      nodes.push_back(std::move(n));
+    }
+  }
+
+  // Resume: samples finished by an earlier run of the same command.
+  const std::string fp = fingerprint(pattern, opt);
+  if (!opt.checkpoint.empty()) {
+    std::ifstream in(opt.checkpoint);
+    std::string line;
+    if (in && std::getline(in, line)) {
+      if (line != "yarnhom-produce-checkpoint 1 " + fp)
+        throw FileError(opt.checkpoint, "line 1",
+                        "checkpoint of a different run (pattern, preset, terms, ranges or material differ); "
+                        "remove it to start over");
+      while (std::getline(in, line)) {
+        std::istringstream ls(line);
+        int term, index, iterations;
+        double seconds, psi;
+        std::string status, end;
+        Strain g;
+        if (!(ls >> term >> index >> status >> iterations >> seconds >> psi >> g[0] >> g[1] >> g[2] >> g[3] >> g[4] >> g[5] >> end) ||
+            end != "." || term < 0 || term >= int(opt.terms.size()) || index < 0 ||
+            index >= int(term_nodes_idx[term].size()))
+          continue;  // a line cut by a kill: that sample is simply solved again
+        Node& n = nodes[term_nodes_idx[term][index]];
+        if (n.done || status != "converged") continue;  // failures are tried again
+        n.done = n.resumed = true;
+        n.status = status;
+        n.iterations = iterations;
+        n.seconds = seconds;
+        n.psi = psi;
+        n.grad = g;
+        ++rep.resumed;
+      }
+    }
+  }
+  std::FILE* ck = nullptr;
+  if (!opt.checkpoint.empty()) {
+    const bool fresh = rep.resumed == 0;
+    if (fresh) {
+      ck = std::fopen(opt.checkpoint.c_str(), "w");
+      if (ck) std::fprintf(ck, "yarnhom-produce-checkpoint 1 %s\n", fp.c_str());
+    } else {
+      ck = std::fopen(opt.checkpoint.c_str(), "a");
+    }
+    if (!ck) throw FileError(opt.checkpoint, "", "cannot open the checkpoint for writing");
+    std::fflush(ck);
+  }
+
+  // Tasks: (term, sector), each an Algorithm 1 plan over its nodes.
+  struct Task {
+    std::vector<int> nodes;  // global node ids
+    WarmStartPlan plan;
+  };
+  std::vector<Task> tasks;
+  for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+    const Term& t = opt.terms[ti];
+    const int K = t.dim() == 1 ? 2 : std::max(1, opt.sectors);
+    std::vector<double> scale;
+    for (int i : t.indices) {
+      const Range r = pattern_range(pattern.name, i, opt.ranges);
+      scale.push_back(std::max(-r.lower, r.upper));
+    }
+    std::vector<Task> by_sector(K);
+    std::vector<std::vector<Eigen::VectorXd>> normalized(K);
+    for (int id : term_nodes_idx[ti]) {
+      Eigen::VectorXd x = nodes[id].t;
+      for (int d = 0; d < x.size(); ++d) x[d] /= scale[d];
+      const int k = sector_of(x, K);
+      if (k < 0) continue;  // the origin
+      by_sector[k].nodes.push_back(id);
+      normalized[k].push_back(x);
+    }
+    for (int k = 0; k < K; ++k) {
+      if (by_sector[k].nodes.empty()) continue;
+      by_sector[k].plan = algorithm1(normalized[k]);
+      tasks.push_back(std::move(by_sector[k]));
+    }
+  }
+  int total = 0, done = 0, failed = 0;
+  for (const auto& n : nodes) {
+    ++total;
+    if (n.done) ++done;
+  }
+  std::mutex mu;
+  const int threads = std::max(1, opt.threads);
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (int ti = 0; ti < static_cast<int>(tasks.size()); ++ti) {
+    const Task& task = tasks[ti];
+    std::map<int, RveState> states;  // local index -> solution, for the children's warm start
+    for (int li : task.plan.order) {
+      Node& n = nodes[task.nodes[li]];
+      const int parent = task.plan.parent[li];
+      if (n.done) continue;  // resumed: its children start from the rest state (same minimum)
+      RveState st = (opt.warm_start && parent >= 0 && states.count(parent)) ? states[parent] : rest;
+      DensityResult r = energy_density(rve, n.s, st, opt.solve);
+      double secs = r.report.seconds;
+      int iters = r.report.iterations;
+      if (!r.report.converged() && !(st.u == rest.u && st.theta == rest.theta)) {
+        st = rest;  // retry cold
+        r = energy_density(rve, n.s, st, opt.solve);
+        secs += r.report.seconds;
+        iters += r.report.iterations;
+      }
+      n.psi = r.psi;
+      n.grad = r.grad;
+      n.status = to_string(r.report.status);
+      n.iterations = iters;
+      n.seconds = secs;
+      n.done = true;
+      if (r.report.converged() && opt.warm_start) states[li] = std::move(st);
+      std::lock_guard<std::mutex> lock(mu);
+      ++done;
+      if (!r.report.converged()) ++failed;
+      if (ck) {
+        std::fprintf(ck, "%d %d %s %d %.17g %.17g", n.term, n.index, n.status.c_str(), n.iterations, n.seconds, n.psi);
+        for (int k = 0; k < 6; ++k) std::fprintf(ck, " %.17g", n.grad[k]);
+        std::fprintf(ck, " .\n");
+        std::fflush(ck);
+      }
+      if (opt.progress) opt.progress(done, total, failed, elapsed());
+    }
+  }
+  if (ck) std::fclose(ck);
+
+  // Assemble the dataset (spec section 3 targets).
+  Dataset ds;
+  ds.pattern = pattern.name;
+  ds.source = "yarn-rve";
+  ds.psi0 = r0.psi;
+  ds.rest_q.resize(rest.packed().size());
+  Eigen::VectorXd::Map(ds.rest_q.data(), ds.rest_q.size()) = rest.packed();
+  {
+    std::ostringstream note;
+    note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start")
+         << "; material: " << format_material(opt.material);
+    ds.note = note.str();
+  }
+  for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+    const Term& t = opt.terms[ti];
+    TermSummary sum;
+    sum.name = t.name;
+    TermData td;
+    td.term = t;
+    for (int i : t.indices) {
+      const Range r = pattern_range(pattern.name, i, opt.ranges);
+      td.lower.push_back(r.lower);
+      td.upper.push_back(r.upper);
+    }
+    const auto& ids = term_nodes_idx[ti];
+    auto ok = [&](const Node& n) { return n.status == "converged"; };
+    int iters = 0;
+    for (int id : ids) {
+      const Node& n = nodes[id];
+      ++sum.nodes;
+      if (n.resumed) ++sum.resumed;
+      sum.seconds += n.seconds;
+      iters += n.iterations;
+      if (!ok(n)) {
+        ++sum.failed;
+        rep.failures.push_back({t.name, n.s, n.status});
+      }
+    }
+    sum.mean_iterations = sum.nodes ? double(iters) / sum.nodes : 0;
+    rep.solve_seconds += sum.seconds;
+    if (t.dim() == 1) {
+      const int I = t.indices[0];
+      for (int id : ids) {
+        const Node& n = nodes[id];
+        if (!ok(n)) continue;
+        td.strain.push_back(n.t[0]);
+        td.raw.push_back(n.psi - r0.psi);
+        td.energy.push_back(n.psi - r0.psi);
+        td.gradient.push_back(n.grad[I]);
+      }
+    } else {
+      const int I = t.indices[0], J = t.indices[1];
+      const int m = points_per_axis(opt.preset, 2);
+      // The grid is row-major: node (i, j) has a = axis_a[i], b = axis_b[j]; its axis nodes
+      // are (i, j0) and (i0, j) with j0, i0 the positions of 0.
+      int i0 = -1, j0 = -1;
+      for (int k = 0; k < m; ++k) {
+        if (nodes[ids[k * m]].t[0] == 0) i0 = k;
+        if (nodes[ids[k]].t[1] == 0) j0 = k;
+      }
+      for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j) {
+          const Node& n = nodes[ids[i * m + j]];
+          const Node& na = nodes[ids[i * m + j0]];  // (a, 0)
+          const Node& nb = nodes[ids[i0 * m + j]];  // (0, b)
+          if (!ok(n) || !ok(na) || !ok(nb)) continue;
+          const double psi_a = na.psi - r0.psi, psi_b = nb.psi - r0.psi;
+          td.strain.insert(td.strain.end(), {n.t[0], n.t[1]});
+          td.raw.push_back(n.psi - r0.psi);
+          td.energy.push_back(n.psi - r0.psi - psi_a - psi_b);
+          td.gradient.insert(td.gradient.end(), {n.grad[I] - na.grad[I], n.grad[J] - nb.grad[J]});
+        }
+    }
+    td.n = static_cast<int>(td.energy.size());
+    ds.terms.push_back(std::move(td));
+    rep.terms.push_back(sum);
+  }
+  rep.seconds = elapsed();
+  if (report) *report = rep;
+  return ds;
+}
+
+}  // namespace yarnhom::yarn

@@ -1,0 +1,60 @@
+#pragma once
+// The yarn RVE data producer (issue 4, spec sections 3-5): Psi(s) and dPsi/ds on each term's
+// node grid, solved sector by sector in the order of supplement Algorithm 1 with warm starts,
+// checkpointed as samples finish, assembled into the dataset that train-all reads.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/dataset.hpp"
+#include "core/terms.hpp"
+#include "yarn/newton.hpp"
+#include "yarn/sampling.hpp"
+
+namespace yarnhom::yarn {
+
+struct ProduceOptions {
+  std::string preset = "quick";          // quick: 21 points per 1D term, 9 x 9 per 2D term;
+                                         // paper: 101 and 31 x 31
+  std::vector<Term> terms = all_terms();
+  int threads = 1;                       // sectors solved in parallel
+  int sectors = 8;                       // per 2D term (1D terms: 2, one per side)
+  bool warm_start = true;                // false: every node from the rest state
+  Material material;
+  std::map<int, Range> ranges;           // per strain index, overriding the pattern's defaults
+  SolveOptions solve;
+  std::string checkpoint;                // sidecar file of finished samples ("" = none)
+  // Called (from one thread at a time) after each finished node.
+  std::function<void(int done, int total, int failed, double elapsed)> progress;
+};
+
+int points_per_axis(const std::string& preset, int dim);  // throws for an unknown preset
+
+// The sampling box of a strain component for a pattern: spec section 2, with the bending range
+// of the paper's pattern of that name (stockinette 200/230, basket 170/170, honeycomb 120/120,
+// cartridge belt rib 100/80 per m; 200/200 otherwise), then the overrides.
+Range pattern_range(const std::string& pattern, int index, const std::map<int, Range>& overrides);
+
+struct TermSummary {
+  std::string name;
+  int nodes = 0, failed = 0, resumed = 0;
+  double mean_iterations = 0, seconds = 0;
+};
+struct Failure {
+  std::string term;
+  Strain s;
+  std::string status;
+};
+struct ProduceReport {
+  SolveReport rest;
+  std::vector<TermSummary> terms;
+  std::vector<Failure> failures;   // nodes that did not converge warm, nor cold: not in the dataset
+  int resumed = 0;                 // samples read back from the checkpoint
+  double seconds = 0;              // wall time of this run
+  double solve_seconds = 0;        // sum of the node solves' times
+};
+
+Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport* report = nullptr);
+
+}  // namespace yarnhom::yarn
