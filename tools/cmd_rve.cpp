@@ -10,13 +10,14 @@
 #include "tools/commands.hpp"
 #include "yarn/energy_density.hpp"
 #include "yarn/generate.hpp"
+#include "yarn/relax.hpp"
 #include "yarn/state_io.hpp"
 
 namespace yarnhom::tools {
 namespace {
 
 struct RveOpts {
-  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start;
+  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out;
   bool json = false, verbose = false;
   double tolerance = 1e-10;
   int max_iterations = 200;
@@ -58,6 +59,7 @@ void run(const RveOpts& o) {
   yarn::SolveReport rest;
   bool relaxed = false;
   if (!o.start.empty()) {
+    if (!o.pattern_out.empty()) throw std::invalid_argument("--pattern-out needs the rest relaxation: drop --start");
     st = yarn::read_state(o.start, rve);
   } else {
     yarn::SolveOptions rest_opt = opt;
@@ -65,6 +67,7 @@ void run(const RveOpts& o) {
     rest = yarn::solve(rve, yarn::Strain::Zero(), st, rest_opt);
     relaxed = true;
     if (!rest.converged()) throw std::runtime_error("relaxing '" + rve.pattern().name + "' at rest: " + rest.summary());
+    if (!o.pattern_out.empty()) yarn::write_pyp(o.pattern_out, yarn::pattern_at(rve, st));
   }
   const yarn::DensityResult r = yarn::energy_density(rve, s, st, opt);
   if (!o.out.empty()) yarn::write_state(o.out, rve, s, st, r);
@@ -114,6 +117,8 @@ void register_rve(CLI::App& app) {
   cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
   cmd->add_option("--out", o->out, "Write the equilibrium state (HDF5)");
   cmd->add_option("--obj", o->obj, "Write a tube mesh of the yarns (OBJ)");
+  cmd->add_option("--pattern-out", o->pattern_out,
+                  "Write the pattern relaxed at rest as .pyp (its geometry is then an equilibrium)");
   cmd->add_option("--start", o->start, "Start from this state file (warm start) instead of the relaxed rest state")->check(CLI::ExistingFile);
   cmd->add_option("--tolerance", o->tolerance, "Relative residual to converge to (default 1e-10)");
   cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations at most (default 200)");
