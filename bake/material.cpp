@@ -68,7 +68,22 @@ BendingEval bending3(const BakedTerm& t, double p, double a, double b, double c)
   const double tau = 1e-2 / t.inv_h[lam];
   EvenOdd G, P{}, PP{};  // parts of g, g_p, g_pp as functions of the curvature
   auto jet = [&](double l, int order, double* out) {
-    if (two) {
+    if (order <= 2) {  // the fast value-gradient-Hessian paths
+      if (two) {
+        const BakedJet2 r = eval_baked_2d(t, {p, l});
+        out[0] = r.f;
+        out[1] = r.g[0];
+        out[2] = r.g[1];
+        out[3] = r.H(0, 0);
+        out[4] = r.H(0, 1);
+        out[5] = r.H(1, 1);
+      } else {
+        const BakedJet1 r = eval_baked_1d(t, l);
+        out[0] = r.f;
+        out[1] = r.df;
+        out[2] = r.d2f;
+      }
+    } else if (two) {
       const double s[2] = {p, l};
       eval_baked_jet(t, s, order, out);
     } else {
