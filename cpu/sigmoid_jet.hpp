@@ -33,21 +33,27 @@ void sigmoid_jet_forward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, MatT<T
 #pragma GCC ivdep
     for (int r = 0; r < n; ++r) {
       T z[C];
+      #pragma GCC unroll 16
       for (int c = 0; c < C; ++c) z[c] = zp[c * stride + r];
       const T s0 = sp[r];
       const T s1 = s0 * (T(1) - s0);
       const T s2 = s1 * (T(1) - T(2) * s0);
       const T s3 = s1 * (T(1) - T(6) * s0 + T(6) * s0 * s0);
       ap[r] = s0;
-      if constexpr (ORDER >= 1)
+      if constexpr (ORDER >= 1) {
+        #pragma GCC unroll 16
         for (int i = 0; i < D; ++i) ap[(1 + i) * stride + r] = s1 * z[1 + i];
-      if constexpr (ORDER >= 2)
+      }
+      if constexpr (ORDER >= 2) {
+        #pragma GCC unroll 16
         for (int q = 0; q < jet_num_pairs(D); ++q) {
           const JetPair e = jet_pair(D, q);
           const int c = jet_first(D, 2) + q;
           ap[c * stride + r] = s2 * z[1 + e.i] * z[1 + e.j] + s1 * z[c];
         }
-      if constexpr (ORDER >= 3)
+      }
+      if constexpr (ORDER >= 3) {
+        #pragma GCC unroll 16
         for (int t = 0; t < jet_num_triples(D); ++t) {
           const JetTriple e = jet_triple(D, t);
           const int c = jet_first(D, 3) + t;
@@ -56,6 +62,7 @@ void sigmoid_jet_forward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, MatT<T
                   zjk = z[jet_ch2(D, e.j, e.k)];
           ap[c * stride + r] = s3 * zi * zj * zk + s2 * (zij * zk + zik * zj + zjk * zi) + s1 * z[c];
         }
+      }
     }
   }
 }
@@ -76,6 +83,7 @@ void sigmoid_jet_backward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, const
 #pragma GCC ivdep
     for (int r = 0; r < n; ++r) {
       T z[C], ab[C], zb[C];
+      #pragma GCC unroll 16
       for (int c = 0; c < C; ++c) {
         z[c] = zp[c * stride + r];
         ab[c] = abp[c * stride + r];
@@ -86,10 +94,14 @@ void sigmoid_jet_backward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, const
       const T s3 = s1 * (T(1) - T(6) * s0 + T(6) * s0 * s0);
       const T s4 = s1 * (T(1) - T(2) * s0) * (T(1) - T(12) * s0 + T(12) * s0 * s0);
       // Every channel c >= 0 of a has the term s1 * z_c (channel 0: a = s0, d/dz0 = s1).
+      #pragma GCC unroll 16
       for (int c = 0; c < C; ++c) zb[c] = ab[c] * s1;
-      if constexpr (ORDER >= 1)
+      if constexpr (ORDER >= 1) {
+        #pragma GCC unroll 16
         for (int i = 0; i < D; ++i) zb[0] += ab[1 + i] * s2 * z[1 + i];
-      if constexpr (ORDER >= 2)
+      }
+      if constexpr (ORDER >= 2) {
+        #pragma GCC unroll 16
         for (int q = 0; q < jet_num_pairs(D); ++q) {
           const JetPair e = jet_pair(D, q);
           const int c = jet_first(D, 2) + q;
@@ -98,7 +110,9 @@ void sigmoid_jet_backward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, const
           zb[1 + e.i] += g * s2 * z[1 + e.j];
           zb[1 + e.j] += g * s2 * z[1 + e.i];
         }
-      if constexpr (ORDER >= 3)
+      }
+      if constexpr (ORDER >= 3) {
+        #pragma GCC unroll 16
         for (int t = 0; t < jet_num_triples(D); ++t) {
           const JetTriple e = jet_triple(D, t);
           const int c = jet_first(D, 3) + t;
@@ -114,6 +128,8 @@ void sigmoid_jet_backward_impl(int B, const MatT<T>& Z, const MatT<T>& S0, const
           zb[cik] += g * s2 * zj;
           zb[cjk] += g * s2 * zi;
         }
+      }
+      #pragma GCC unroll 16
       for (int c = 0; c < C; ++c) zbp[c * stride + r] = zb[c];
     }
   }
