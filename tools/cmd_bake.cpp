@@ -121,7 +121,8 @@ void register_bake(CLI::App& app) {
         dev = b1;
         gdev = b2;
       }
-      const std::string warn = safeguard_warnings(t);
+      std::string warn = safeguard_warnings(t);
+      if (net.status != "ok") warn = "NETWORK NOT TRAINED (" + net.status + ")" + (warn.empty() ? "" : "; " + warn);
       std::printf("%-5s %-10s %-21s %-14s %s\n", t.term.name.c_str(), knots.c_str(), dev.c_str(), gdev.c_str(),
                   warn.empty() ? "ok" : warn.c_str());
     }
