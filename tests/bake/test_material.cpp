@@ -185,3 +185,26 @@ TEST(Material, SeriesSwitchIsContinuous) {
     }
   }
 }
+
+// With the same table for terms 3 and 5, B_3 + B_5 = tr g(K) = g(l1) + g(l2): invariant under
+// rotations of the curvature tensor, as a frame-independent bending model must be.
+TEST(Material, SameBendingTablesGiveARotationInvariant) {
+  test::Poly p;  // g(l) = l^2/2 + l^3/300 (cubic: reproduced exactly by the table)
+  p.c[2][0] = 0.5;
+  p.c[3][0] = 1.0 / 300;
+  BakedModel m;
+  for (const char* name : {"3", "5"})
+    m.tables.push_back(bake_function(term_by_name(name), {-200}, {200}, {50}, test::poly_function(p, 1)));
+  std::string missing;
+  const BakedMaterial mat = make_baked_material(m, "", &missing);
+  EXPECT_EQ(missing, "0 1 2 01 02 03 05 12 13 15 23 25");
+  for (double th : {0.0, 0.3, 1.1, 2.0}) {
+    const double l1 = 120, l2 = -40, c = std::cos(th), s = std::sin(th);
+    Strain6 e = Strain6::Zero();
+    e[3] = c * c * l1 + s * s * l2;  // R diag(l1, l2) R^T
+    e[4] = c * s * (l1 - l2);
+    e[5] = s * s * l1 + c * c * l2;
+    const double expect = p(l1, 0, 0, 0) + p(l2, 0, 0, 0);
+    EXPECT_NEAR(eval_material(mat, e).psi, expect, 1e-9 * std::abs(expect)) << th;
+  }
+}
