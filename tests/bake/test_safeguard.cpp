@@ -177,6 +177,19 @@ TEST(Safeguard, StoredCoefficientsReproduceTheExtension) {
   EXPECT_NEAR(eval_baked_2d(e2, {0.7 + tt, y}).f, g[0] + g[2] * tt + 0.5 * g[4] * tt * tt, 1e-10 * (1 + std::abs(g[0])));
   // Its derivative along the edge: g0' + g1' t + g2' t^2/2.
   EXPECT_NEAR(eval_baked_2d(e2, {0.7 + tt, y}).g[1], g[1] + g[3] * tt + 0.5 * g[5] * tt * tt, 1e-8 * (1 + std::abs(g[1])));
+  // Between edge knots each g_k is the cubic Hermite interpolant of (g_k, g_k') (docs/bake.md):
+  // evaluated from the stored columns alone, at a third of the way from knot j to j + 1.
+  {
+    const double hy = 400.0 / 39, v = 1.0 / 3;
+    const double H00 = 1 - 3 * v * v + 2 * v * v * v, H10 = v - 2 * v * v + v * v * v, H01 = 3 * v * v - 2 * v * v * v,
+                 H11 = v * v * v - v * v;
+    const double* g1 = t2.edges[1].data() + 6 * (j + 1);
+    double gk[3];
+    for (int k = 0; k < 3; ++k)
+      gk[k] = H00 * g[2 * k] + hy * H10 * g[2 * k + 1] + H01 * g1[2 * k] + hy * H11 * g1[2 * k + 1];
+    const double ref = gk[0] + gk[1] * tt + 0.5 * gk[2] * tt * tt;
+    EXPECT_NEAR(eval_baked_2d(e2, {0.7 + tt, y + v * hy}).f, ref, 1e-10 * (1 + std::abs(ref)));
+  }
   // Corner (lower, upper): x below, y above.
   const auto& a = t2.corners[2];
   const double dx = -0.4, dy = 55;
