@@ -79,10 +79,12 @@ void run(const ProduceOpts& o) {
   write_dataset(o.out, ds);
   std::printf("rest        %s, Psi0 %.10g J/m^2\n", rep.rest.summary().c_str(), ds.psi0);
   if (rep.resumed) std::printf("resumed     %d samples from %s\n", rep.resumed, opt.checkpoint.c_str());
-  std::printf("%-5s %6s %7s %10s %9s\n", "term", "nodes", "failed", "mean iter", "solve s");
+  std::printf("%-5s %6s %7s %10s %9s %9s\n", "term", "nodes", "failed", "mean iter", "solve s", "cpu s");
   for (const auto& t : rep.terms)
-    std::printf("%-5s %6d %7d %10.1f %9.2f\n", t.name.c_str(), t.nodes, t.failed, t.mean_iterations, t.seconds);
-  std::printf("total       %.1f s wall, %.1f s in solves\n", rep.seconds, rep.solve_seconds);
+    std::printf("%-5s %6d %7d %10.1f %9.2f %9.2f\n", t.name.c_str(), t.nodes, t.failed, t.mean_iterations, t.seconds,
+                t.cpu_seconds);
+  std::printf("total       %.1f s wall, %.1f s in solves (%.1f s CPU)\n", rep.seconds, rep.solve_seconds,
+              rep.solve_cpu_seconds);
   std::printf("dataset     %s\n", o.out.c_str());
   if (!rep.failures.empty()) {
     std::fprintf(stderr, "yarnhom: error: %zu nodes did not converge (warm, then cold); they are not in the dataset:\n",

@@ -1,6 +1,8 @@
 #include "yarn/newton.hpp"
 
 #include <Eigen/SparseCholesky>
+#include <time.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -31,8 +33,17 @@ double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad) {
   return rms / rve.stretch_stiffness();
 }
 
+namespace {
+double thread_cpu_seconds() {
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+}  // namespace
+
 SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const SolveOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = thread_cpu_seconds();
   SolveReport rep;
   const int N = rve.num_dofs();
   Eigen::VectorXd g(N), d(N);
@@ -44,6 +55,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
   auto finish = [&](SolveStatus status) {
     rep.status = status;
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    rep.cpu_seconds = thread_cpu_seconds() - c0;
     return rep;
   };
   for (int it = 0;; ++it) {

@@ -33,7 +33,8 @@ struct SolveReport {
   int iterations = 0;
   double residual = 0;   // relative residual at the end
   double energy = 0;     // J
-  double seconds = 0;
+  double seconds = 0;     // wall time
+  double cpu_seconds = 0; // CPU time of the calling thread (what a loaded machine does not inflate)
   int shifted = 0;       // iterations that needed the definiteness shift
   int analyses = 0;      // symbolic factorizations done
   int line_search_retries = 0;  // line searches that failed and were retried with a larger shift

@@ -44,7 +44,7 @@ struct Node {
   Strain grad = Strain::Zero();
   std::string status;
   int iterations = 0;
-  double seconds = 0;
+  double seconds = 0, cpu_seconds = 0;
 };
 
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
@@ -198,12 +198,13 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       if (n.done) continue;  // resumed: its children start from the rest state (same minimum)
       RveState st = (opt.warm_start && parent >= 0 && states.count(parent)) ? states[parent] : rest;
       DensityResult r = energy_density(rve, n.s, st, opt.solve);
-      double secs = r.report.seconds;
+      double secs = r.report.seconds, cpu = r.report.cpu_seconds;
       int iters = r.report.iterations;
       if (!r.report.converged() && !(st.u == rest.u && st.theta == rest.theta)) {
         st = rest;  // retry cold
         r = energy_density(rve, n.s, st, opt.solve);
         secs += r.report.seconds;
+        cpu += r.report.cpu_seconds;
         iters += r.report.iterations;
       }
       n.psi = r.psi;
@@ -211,6 +212,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       n.status = to_string(r.report.status);
       n.iterations = iters;
       n.seconds = secs;
+      n.cpu_seconds = cpu;
       n.done = true;
       if (r.report.converged() && opt.warm_start) states[li] = std::move(st);
       std::lock_guard<std::mutex> lock(mu);
@@ -259,6 +261,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       ++sum.nodes;
       if (n.resumed) ++sum.resumed;
       sum.seconds += n.seconds;
+      sum.cpu_seconds += n.cpu_seconds;
       iters += n.iterations;
       if (!ok(n)) {
         ++sum.failed;
@@ -267,6 +270,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     }
     sum.mean_iterations = sum.nodes ? double(iters) / sum.nodes : 0;
     rep.solve_seconds += sum.seconds;
+    rep.solve_cpu_seconds += sum.cpu_seconds;
     if (t.dim() == 1) {
       const int I = t.indices[0];
       for (int id : ids) {

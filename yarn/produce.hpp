@@ -39,7 +39,7 @@ Range pattern_range(const std::string& pattern, int index, const std::map<int, R
 struct TermSummary {
   std::string name;
   int nodes = 0, failed = 0, resumed = 0;
-  double mean_iterations = 0, seconds = 0;
+  double mean_iterations = 0, seconds = 0, cpu_seconds = 0;  // solves' wall and CPU time
 };
 struct Failure {
   std::string term;
@@ -52,7 +52,8 @@ struct ProduceReport {
   std::vector<Failure> failures;   // nodes that did not converge warm, nor cold: not in the dataset
   int resumed = 0;                 // samples read back from the checkpoint
   double seconds = 0;              // wall time of this run
-  double solve_seconds = 0;        // sum of the node solves' times
+  double solve_seconds = 0;        // sum of the node solves' wall times
+  double solve_cpu_seconds = 0;    // and CPU times (this run only; resumed samples excluded)
 };
 
 Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport* report = nullptr);
