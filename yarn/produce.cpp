@@ -207,6 +207,19 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         cpu += r.report.cpu_seconds;
         iters += r.report.iterations;
       }
+      if (!r.report.converged()) {
+        // Last resort: continuation from the rest state along the ray to s in 8 steps (the
+        // extreme corners of the boxes, large stretch with large curvature, can defeat a
+        // single Newton solve from far away).
+        st = rest;
+        for (int k = 1; k <= 8; ++k) {
+          r = energy_density(rve, n.s * (k / 8.0), st, opt.solve);
+          secs += r.report.seconds;
+          cpu += r.report.cpu_seconds;
+          iters += r.report.iterations;
+          if (!r.report.converged()) break;
+        }
+      }
       n.psi = r.psi;
       n.grad = r.grad;
       n.status = to_string(r.report.status);
