@@ -106,6 +106,16 @@ int sm_count() {
   return n;
 }
 
+int smem_optin() {
+  static int n = [] {
+    int dev = 0, v = 0;
+    check(cudaGetDevice(&dev), "cudaGetDevice");
+    check(cudaDeviceGetAttribute(&v, cudaDevAttrMaxSharedMemoryPerBlockOptin, dev), "cudaDeviceGetAttribute");
+    return v;
+  }();
+  return n;
+}
+
 // Shared memory of a multi-block twin: params (and gradient) then the chunk buffers.
 Launch pick_launch(const NetShape& s, int tasks, bool with_grad) {
   Launch l;
@@ -114,6 +124,13 @@ Launch pick_launch(const NetShape& s, int tasks, bool with_grad) {
   const int P4 = (s.P + 3) & ~3;
   const int base = with_grad ? 2 * P4 : P4;
   l.smem = size_t(chunk_layout(s, l.S, base).total) * sizeof(float);
+  // A stride whose buffers exceed the block's shared-memory limit is lowered until they fit.
+  while (l.smem > size_t(smem_optin()) && l.S > 36) {
+    l.S -= 32;
+    l.smem = size_t(chunk_layout(s, l.S, base).total) * sizeof(float);
+  }
+  if (l.smem > size_t(smem_optin()))
+    throw std::invalid_argument("the network is too wide for the CUDA kernels' shared memory");
   const int per_sm = std::max(1, int((228 * 1024) / (l.smem + 1024)));
   const int want = g_shape.blocks > 0 ? g_shape.blocks : sm_count() * per_sm;
   l.blocks = std::max(1, std::min(tasks, want));

@@ -67,7 +67,9 @@ struct EpochOut {
   double train[6], val[6];
 };
 
-constexpr int kThreads = 512;
+// Threads per block: 512 (at most 128 registers a thread) or 256 (no register cap that spills);
+// environment variable YARNHOM_CUDA_THREADS picks, default below.
+constexpr int kDefaultThreads = 256;
 constexpr int kMaxCluster = 8;
 
 // Fisher-Yates of train/epoch_plan.hpp's shuffled_order, with the random draws (which depend
@@ -210,7 +212,8 @@ __device__ void epoch_body(NetDev& n, const NetShape& s, const LossCfg& cfg, int
 }
 
 // Grid: one cluster of CB blocks per network (CB from the launch's cluster dimension).
-__global__ void __launch_bounds__(kThreads) epoch_kernel(NetDev* nets, const EpochCtl* ctl, EpochOut* out, int epoch, int S) {
+template <int THREADS>
+__global__ void __launch_bounds__(THREADS) epoch_kernel(NetDev* nets, const EpochCtl* ctl, EpochOut* out, int epoch, int S) {
   extern __shared__ float4 smem4[];
   __shared__ NetShape s;
   __shared__ LossCfg cfg;
@@ -326,8 +329,11 @@ class CudaBackend final : public Backend {
     }
     smem_ = size_t(0);
     for (const NetShape& s : shapes_) smem_ = std::max(smem_, size_t(chunk_layout(s, S_, need_params).total) * 4);
-    check(cudaFuncSetAttribute(epoch_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem_)),
-          "cudaFuncSetAttribute (shared memory " + std::to_string(smem_) + " bytes)");
+    const char* env_t = std::getenv("YARNHOM_CUDA_THREADS");
+    threads_ = env_t && std::atoi(env_t) == 512 ? 512 : env_t && std::atoi(env_t) == 256 ? 256 : kDefaultThreads;
+    for (auto k : {epoch_kernel<256>, epoch_kernel<512>})
+      check(cudaFuncSetAttribute(k, cudaFuncAttributeMaxDynamicSharedMemorySize, int(smem_)),
+            "cudaFuncSetAttribute (shared memory " + std::to_string(smem_) + " bytes)");
     // Blocks per network: a cluster of CB blocks shares a batch's chunks (cudaOccupancy says how
     // many clusters fit at once; all J must, or some networks would wait for others).
     const char* env_cb = std::getenv("YARNHOM_CUDA_CLUSTER");
@@ -335,9 +341,11 @@ class CudaBackend final : public Backend {
     want = std::max(1, std::min(kMaxCluster, want));
     CB_ = 1;
     for (int cb = want; cb >= 1; cb /= 2) {
-      cudaLaunchConfig_t lc = config(kThreads, cb);
+      cudaLaunchConfig_t lc = config(threads_, cb);
       int clusters = 0;
-      if (cudaOccupancyMaxActiveClusters(&clusters, epoch_kernel, &lc) != cudaSuccess) {
+      const cudaError_t e = threads_ == 512 ? cudaOccupancyMaxActiveClusters(&clusters, epoch_kernel<512>, &lc)
+                                            : cudaOccupancyMaxActiveClusters(&clusters, epoch_kernel<256>, &lc);
+      if (e != cudaSuccess) {
         cudaGetLastError();
         continue;
       }
@@ -368,7 +376,7 @@ class CudaBackend final : public Backend {
     if (!any) return;
     check(cudaMemcpyAsync(ctl_d_.data(), ctl_h_.p, sizeof(EpochCtl) * J_, cudaMemcpyHostToDevice, stream_),
           "cudaMemcpyAsync");
-    const int threads = fault_ == "launch" ? 4096 : kThreads;
+    const int threads = fault_ == "launch" ? 4096 : threads_;
     launch(threads, epoch);
     check(cudaMemcpyAsync(out_h_.p, out_d_.data(), sizeof(EpochOut) * J_, cudaMemcpyDeviceToHost, stream_),
           "cudaMemcpyAsync");
@@ -420,7 +428,8 @@ class CudaBackend final : public Backend {
 
   void launch(int threads, int epoch) {
     cudaLaunchConfig_t lc = config(threads, CB_);
-    check(cudaLaunchKernelEx(&lc, epoch_kernel, reinterpret_cast<NetDev*>(nets_.data()),
+    auto kernel = threads_ == 512 ? epoch_kernel<512> : epoch_kernel<256>;
+    check(cudaLaunchKernelEx(&lc, kernel, reinterpret_cast<NetDev*>(nets_.data()),
                              reinterpret_cast<const EpochCtl*>(ctl_d_.data()),
                              reinterpret_cast<EpochOut*>(out_d_.data()), epoch, S_),
           "launch of the epoch kernel (" + std::to_string(J_) + " clusters of " + std::to_string(CB_) +
@@ -433,7 +442,7 @@ class CudaBackend final : public Backend {
     return ibufs_.back().data();
   }
 
-  int J_ = 0, S_ = 0, CB_ = 1;
+  int J_ = 0, S_ = 0, CB_ = 1, threads_ = kDefaultThreads;
   cudaLaunchAttribute attr_[1];
   size_t smem_ = 0;
   std::string fault_;

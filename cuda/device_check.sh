@@ -29,6 +29,13 @@ if has tests; then
   $B/tests/test_cuda --gtest_color=no 2>&1 | tee "$OUT/test_cuda.log" | grep -E "^\[  (PASSED|FAILED|SKIPPED) |FAILED|rel |worst|oom|launch:|Failure|Expected|actual|Which is" | head -60
 fi
 
+if has benchcuda; then
+  $B/tools/bench_cuda --benchmark_filter=BM_Cuda --benchmark_out="$OUT/bench_cuda.json" --benchmark_out_format=json \
+    > "$OUT/bench_cuda.log" 2>&1
+  echo "bench rc=$?"
+  grep -E "^GPU|BM_" "$OUT/bench_cuda.log" | sed -E 's/ +/ /g' | cut -c1-170
+fi
+
 if has bench; then
   $B/tools/bench_cuda --benchmark_out="$OUT/bench_cuda.json" --benchmark_out_format=json \
     > "$OUT/bench_cuda.log" 2>&1
@@ -36,7 +43,7 @@ if has bench; then
   grep -E "^GPU|BM_" "$OUT/bench_cuda.log" | sed -E 's/ +/ /g' | cut -c1-170
 fi
 
-if has train || has torch || has faults || has sanitize; then
+if has train || has torch || has faults || has sanitize || has variants; then
   $Y synth --preset paper -o /tmp/paper.h5 > /dev/null && $Y synth --preset quick -o /tmp/quick.h5 > /dev/null
 fi
 
@@ -65,9 +72,12 @@ PY
 fi
 
 if has variants; then
-  for cb in 1 2 4 8; do
-    YARNHOM_CUDA_CLUSTER=$cb $Y train-all /tmp/paper.h5 -o /tmp/v.h5 --backend cuda -q > /tmp/v.log 2>&1
-    echo "cluster $cb: $(grep 'total wall' /tmp/v.log)"
+  for th in 256 512; do
+    for cb in 1 2 4 8; do
+      YARNHOM_CUDA_THREADS=$th YARNHOM_CUDA_CLUSTER=$cb /usr/bin/time -f "%e s process" $Y train-all /tmp/paper.h5 \
+        -o /tmp/v.h5 --backend cuda -q > /tmp/v.log 2>&1
+      echo "threads $th cluster $cb: $(grep 'total wall' /tmp/v.log | cut -c1-26) $(tail -1 /tmp/v.log)"
+    done
   done
   $Y train-all /tmp/paper.h5 -o /tmp/v.h5 --backend cuda -q --terms 0,1,2,3,5 > /tmp/v.log 2>&1
   echo "1D terms only: $(grep 'total wall' /tmp/v.log)"

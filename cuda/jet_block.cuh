@@ -15,6 +15,7 @@
 // fixed shuffle tree; a chunk's gradient is added into the block's gradient by the one thread
 // that owns that parameter, chunk after chunk. No atomics anywhere.
 #include <cstdint>
+#include <cstddef>
 
 #include "core/jet_layout.hpp"
 #include "core/network.hpp"
@@ -65,6 +66,9 @@ struct Sums5 {
   float z = 0, f = 0, c = 0, s = 0, x = 0;
 };
 
+// Floats of shared scratch for the weight-gradient partial tiles (chunk_backward).
+inline constexpr int kDwScratch = 4096;
+
 inline int round4(int n) { return (n + 3) & ~3; }
 // The smallest stride >= n with stride = 4 mod 32.
 YH_HD inline int chunk_stride(int n) {
@@ -75,7 +79,7 @@ YH_HD inline int chunk_stride(int n) {
 
 // Floats of shared memory for the chunk buffers of stride S (each part a multiple of 4).
 struct ChunkLayout {
-  int z, a, out, dout, bufA, bufB, x, y, g, nrm, lp, total;
+  int z, a, out, dout, bufA, bufB, x, y, g, nrm, lp, dwp, total;
 };
 YH_HD inline ChunkLayout chunk_layout(const NetShape& s, int S, int base) {
   ChunkLayout c;
@@ -96,6 +100,7 @@ YH_HD inline ChunkLayout chunk_layout(const NetShape& s, int S, int base) {
   c.g = take(S * s.d);
   c.nrm = take(S * s.d);
   c.lp = take(4 * S);
+  c.dwp = take(kDwScratch);
   c.total = o;
   return c;
 }
@@ -104,12 +109,12 @@ YH_HD inline ChunkLayout chunk_layout(const NetShape& s, int S, int base) {
 
 // Pointers into shared memory for one chunk.
 struct Chunk {
-  float *z, *a, *out, *dout, *bufA, *bufB, *x, *y, *g, *nrm, *lp;
+  float *z, *a, *out, *dout, *bufA, *bufB, *x, *y, *g, *nrm, *lp, *dwp;
   int S;
 };
 __device__ inline Chunk make_chunk(float* smem, const ChunkLayout& l, int S) {
-  return Chunk{smem + l.z,    smem + l.a, smem + l.out, smem + l.dout, smem + l.bufA, smem + l.bufB,
-               smem + l.x,    smem + l.y, smem + l.g,   smem + l.nrm,  smem + l.lp,   S};
+  return Chunk{smem + l.z, smem + l.a,   smem + l.out, smem + l.dout, smem + l.bufA, smem + l.bufB,
+               smem + l.x, smem + l.y,   smem + l.g,   smem + l.nrm,  smem + l.lp,   smem + l.dwp, S};
 }
 
 __device__ inline void fma4(float4& acc, float w, const float4& v) {
@@ -121,19 +126,52 @@ __device__ inline void fma4(float4& acc, float w, const float4& v) {
 
 // out[r][col] = sum_j M(r, j) in[j][col] (+ bias[r] in the columns < nb), M(r, j) =
 // Wp[r*rs + j*js], for r < rows and the first ncol columns (rounded up to 4; the extra columns
-// hold whatever the padding computes to and are never read as data). A thread owns a 4x4 tile.
+// hold whatever the padding computes to and are never read as data). A thread owns a 4x4 tile
+// (4 rows, 4 consecutive columns). The weights are read as float4 when the layout allows:
+// along j (js == 1, the forward product) or along r (rs == 1, the transposed one); the sum
+// over j is in increasing j either way.
 __device__ inline void block_gemm(const float* Wp, int rs, int js, const float* bias, int nb, int rows,
                                   int inner, const float* in, float* out, int S, int ncol) {
   const int nc4 = (ncol + 3) >> 2, rt = (rows + 3) >> 2, tiles = rt * nc4;
+  const bool aligned = (reinterpret_cast<uintptr_t>(Wp) & 15) == 0;
+  const bool vec_j = aligned && js == 1 && (rs & 3) == 0 && (inner & 3) == 0;
+  const bool vec_r = aligned && rs == 1 && (js & 3) == 0 && !vec_j;
   for (int t = threadIdx.x; t < tiles; t += blockDim.x) {
     const int c4 = t % nc4, r0 = (t / nc4) * 4;
     float4 acc[4];
     for (int q = 0; q < 4; ++q) acc[q] = make_float4(0.f, 0.f, 0.f, 0.f);
     const int rr[4] = {min(r0, rows - 1), min(r0 + 1, rows - 1), min(r0 + 2, rows - 1), min(r0 + 3, rows - 1)};
-    for (int j = 0; j < inner; ++j) {
-      const float4 v = *reinterpret_cast<const float4*>(in + j * S + 4 * c4);
+    const float* ip = in + 4 * c4;
+    if (vec_j) {
+      for (int j = 0; j < inner; j += 4) {
+        const float4 v0 = *reinterpret_cast<const float4*>(ip + (j + 0) * S);
+        const float4 v1 = *reinterpret_cast<const float4*>(ip + (j + 1) * S);
+        const float4 v2 = *reinterpret_cast<const float4*>(ip + (j + 2) * S);
+        const float4 v3 = *reinterpret_cast<const float4*>(ip + (j + 3) * S);
 #pragma unroll
-      for (int q = 0; q < 4; ++q) fma4(acc[q], Wp[rr[q] * rs + j * js], v);
+        for (int q = 0; q < 4; ++q) {
+          const float4 w = *reinterpret_cast<const float4*>(Wp + rr[q] * rs + j);
+          fma4(acc[q], w.x, v0);
+          fma4(acc[q], w.y, v1);
+          fma4(acc[q], w.z, v2);
+          fma4(acc[q], w.w, v3);
+        }
+      }
+    } else if (vec_r && r0 + 3 < rows) {
+      for (int j = 0; j < inner; ++j) {
+        const float4 v = *reinterpret_cast<const float4*>(ip + j * S);
+        const float4 w = *reinterpret_cast<const float4*>(Wp + r0 + j * js);
+        fma4(acc[0], w.x, v);
+        fma4(acc[1], w.y, v);
+        fma4(acc[2], w.z, v);
+        fma4(acc[3], w.w, v);
+      }
+    } else {
+      for (int j = 0; j < inner; ++j) {
+        const float4 v = *reinterpret_cast<const float4*>(ip + j * S);
+#pragma unroll
+        for (int q = 0; q < 4; ++q) fma4(acc[q], Wp[rr[q] * rs + j * js], v);
+      }
     }
 #pragma unroll
     for (int q = 0; q < 4; ++q) {
@@ -153,22 +191,86 @@ __device__ inline void block_gemm(const float* Wp, int rs, int js, const float* 
   }
 }
 
-// sum over columns [0, n) of u[col] * v[col] in a fixed order (float4 steps, then the tail).
-__device__ inline float dot_cols(const float* u, const float* v, int n) {
-  float4 acc = make_float4(0.f, 0.f, 0.f, 0.f);
-  const int n4 = n >> 2;
-  for (int i = 0; i < n4; ++i) {
-    const float4 a = reinterpret_cast<const float4*>(u)[i];
-    const float4 b = reinterpret_cast<const float4*>(v)[i];
-    acc.x = fmaf(a.x, b.x, acc.x);
-    acc.y = fmaf(a.y, b.y, acc.y);
-    acc.z = fmaf(a.z, b.z, acc.z);
-    acc.w = fmaf(a.w, b.w, acc.w);
-  }
-  float s = (acc.x + acc.y) + (acc.z + acc.w);
-  for (int i = 4 * n4; i < n; ++i) s = fmaf(u[i], v[i], s);
-  return s;
+// The weight gradient of a layer over a chunk, in two phases around a barrier:
+// dw_partials: dW[r][j] = sum over columns zbar[r][col] a[j][col], a thread per 4x4 tile of
+//   (r, j) and per slice of the columns (float4 steps; the last slice takes the tail), written
+//   to the scratch as [slice][16 entries][tile];
+// dw_reduce: a thread per weight sums its tile entry over the slices in slice order and adds it
+//   into G. Both orders are fixed by (n, m, N, blockDim), so the result is deterministic.
+struct DwPlan {
+  int rt, jt, tiles, slices, n4;
+};
+__device__ inline DwPlan dw_plan(int n, int m, int N) {
+  DwPlan p;
+  p.rt = (n + 3) >> 2;
+  p.jt = (m + 3) >> 2;
+  p.tiles = p.rt * p.jt;
+  p.n4 = N >> 2;
+  int q = int(blockDim.x) / p.tiles;
+  q = min(q, kDwScratch / (16 * p.tiles));
+  q = min(q, max(1, p.n4 / 2));  // at least two float4 steps per slice
+  p.slices = max(1, q);
+  return p;
 }
+__device__ inline void dw_partials(const DwPlan& p, const float* zbar, const float* A, int n, int m, int N, int S,
+                                   float* scratch) {
+  for (int w = threadIdx.x; w < p.tiles * p.slices; w += blockDim.x) {
+    const int t = w % p.tiles, q = w / p.tiles;
+    const int r0 = (t / p.jt) * 4, j0 = (t % p.jt) * 4;
+    const float* zr[4];
+    const float* aj[4];
+#pragma unroll
+    for (int u = 0; u < 4; ++u) {
+      zr[u] = zbar + min(r0 + u, n - 1) * S;
+      aj[u] = A + min(j0 + u, m - 1) * S;
+    }
+    float acc[4][4];
+#pragma unroll
+    for (int u = 0; u < 4; ++u)
+#pragma unroll
+      for (int v = 0; v < 4; ++v) acc[u][v] = 0.f;
+    const int c_begin = (q * p.n4) / p.slices, c_end = ((q + 1) * p.n4) / p.slices;
+    for (int c = c_begin; c < c_end; ++c) {
+      float4 zv[4], av[4];
+#pragma unroll
+      for (int u = 0; u < 4; ++u) {
+        zv[u] = reinterpret_cast<const float4*>(zr[u])[c];
+        av[u] = reinterpret_cast<const float4*>(aj[u])[c];
+      }
+#pragma unroll
+      for (int u = 0; u < 4; ++u)
+#pragma unroll
+        for (int v = 0; v < 4; ++v) {
+          acc[u][v] = fmaf(zv[u].x, av[v].x, acc[u][v]);
+          acc[u][v] = fmaf(zv[u].y, av[v].y, acc[u][v]);
+          acc[u][v] = fmaf(zv[u].z, av[v].z, acc[u][v]);
+          acc[u][v] = fmaf(zv[u].w, av[v].w, acc[u][v]);
+        }
+    }
+    if (q == p.slices - 1)
+      for (int c = 4 * p.n4; c < N; ++c)
+#pragma unroll
+        for (int u = 0; u < 4; ++u)
+#pragma unroll
+          for (int v = 0; v < 4; ++v) acc[u][v] = fmaf(zr[u][c], aj[v][c], acc[u][v]);
+    // [slice][entry][tile]: a warp's lanes (consecutive tiles) store to consecutive words.
+    float* o = scratch + size_t(q) * 16 * p.tiles + t;
+#pragma unroll
+    for (int u = 0; u < 4; ++u)
+#pragma unroll
+      for (int v = 0; v < 4; ++v) o[(u * 4 + v) * p.tiles] = acc[u][v];
+  }
+}
+__device__ inline void dw_reduce(const DwPlan& p, const float* scratch, int n, int m, float* Gw) {
+  for (int t = threadIdx.x; t < n * m; t += blockDim.x) {
+    const int r = t / m, j = t % m;
+    const int tile = (r >> 2) * p.jt + (j >> 2), e = (r & 3) * 4 + (j & 3);
+    float sum = scratch[size_t(e) * p.tiles + tile];
+    for (int q = 1; q < p.slices; ++q) sum += scratch[(size_t(q) * 16 + e) * p.tiles + tile];
+    Gw[t] += sum;
+  }
+}
+
 __device__ inline float sum_cols(const float* u, int n) {
   float s = 0.f;
   for (int i = 0; i < n; ++i) s += u[i];
@@ -334,22 +436,18 @@ __device__ void chunk_backward(const NetShape& s, const float* W, int np, Chunk&
   for (int k = s.L - 1; k >= 1; --k) {
     const int n = s.out[k], m = s.in[k];
     const float* Aprev = ch.a + s.hoff[k - 1] * S;
-    // dW_k[r][j] = sum over columns zbar[r] . a_{k-1}[j];  db_k[r] = sum over points zbar[r][p].
-    for (int t = threadIdx.x; t < n * m + n; t += blockDim.x) {
-      if (t < n * m) {
-        const int r = t / m, j = t % m;
-        G[s.woff[k] + t] += dot_cols(zbar + r * S, Aprev + j * S, N);
-      } else {
-        const int r = t - n * m;
-        G[s.boff[k] + r] += sum_cols(zbar + r * S, np);
-      }
-    }
-    // abar_{k-1}[j][col] = sum_r W[r][j] zbar[r][col]
+    // Phase 1: the weight gradient's partial tiles, the bias gradient, and
+    // abar_{k-1}[j][col] = sum_r W[r][j] zbar[r][col] (independent: no barrier between).
+    const DwPlan dp = dw_plan(n, m, N);
+    dw_partials(dp, zbar, Aprev, n, m, N, S, ch.dwp);
+    for (int r = threadIdx.x; r < n; r += blockDim.x) G[s.boff[k] + r] += sum_cols(zbar + r * S, np);
     float* abar = bufs[which];
     which ^= 1;
     block_gemm(W + s.woff[k], 1, m, nullptr, 0, m, n, zbar, abar, S, N);
     __syncthreads();
-    // zbar_{k-1} = sigmoid backward (in place)
+    // Phase 2: the weight gradient summed over slices into G, and zbar_{k-1} = the sigmoid
+    // jet's reverse (in place).
+    dw_reduce(dp, ch.dwp, n, m, G + s.woff[k]);
     sigmoid_layer_bwd<D, ORDER>(ch.z + s.hoff[k - 1] * S, Aprev, abar, m, np, S);
     __syncthreads();
     zbar = abar;
