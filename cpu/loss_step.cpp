@@ -87,14 +87,18 @@ LossValues mlp_loss_grad(const NetworkDesc& desc, const T* params, const LossBat
   const bool stencil = opt.stencil_c && opt.w.c != 0;
 
   // Per task: jet workspace, jets, adjoints, gradient, stencil buffers (3 vectors).
-  ws.jw.resize(tasks);
-  ws.jet.resize(tasks);
-  ws.djet.resize(tasks);
+  const bool parallel = threads > 1 && tasks > 1 && batch.m + batch.k >= kParallelMinPoints;
+  const int workers = parallel ? std::min(threads, tasks) : 1;
+  // Jet buffers per worker thread (reused chunk after chunk); only the gradient is kept per
+  // chunk, for the fixed-order sum.
+  ws.jw.resize(workers);
+  ws.jet.resize(workers);
+  ws.djet.resize(workers);
+  ws.pts.resize(3 * workers);
   ws.grad.resize(tasks);
-  ws.pts.resize(3 * tasks);
   std::vector<LossSums<T>> sums(tasks);
 
-  auto run_task = [&](int t) {
+  auto run_task = [&](int t, int w) {
     flush_denormals();
     T* g = nullptr;
     if (grad) {
@@ -104,34 +108,34 @@ LossValues mlp_loss_grad(const NetworkDesc& desc, const T* params, const LossBat
     if (t < data_tasks) {
       const int begin = t * kLossChunk, n = std::min(kLossChunk, batch.m - begin);
       const T* x = batch.x + size_t(begin) * d;
-      ws.jet[t].resize(size_t(C) * n);
-      mlp_jet_forward<T>(desc, params, x, n, order, ws.jet[t].data(), ws.jw[t]);
-      if (g) ws.djet[t].assign(size_t(C) * n, T(0));
-      sums[t] = data_losses<T>(d, n, order, ws.jet[t].data(), batch.y + begin,
+      ws.jet[w].resize(size_t(C) * n);
+      mlp_jet_forward<T>(desc, params, x, n, order, ws.jet[w].data(), ws.jw[w]);
+      if (g) ws.djet[w].assign(size_t(C) * n, T(0));
+      sums[t] = data_losses<T>(d, n, order, ws.jet[w].data(), batch.y + begin,
                                batch.g + size_t(begin) * d, opt.w, !stencil, inv_m,
-                               g ? ws.djet[t].data() : nullptr);
-      if (g) mlp_jet_backward<T>(desc, params, x, n, order, ws.djet[t].data(), g, ws.jw[t]);
+                               g ? ws.djet[w].data() : nullptr);
+      if (g) mlp_jet_backward<T>(desc, params, x, n, order, ws.djet[w].data(), g, ws.jw[w]);
       if (stencil)
-        sums[t].c = stencil_c<T>(desc, params, n, x, opt, T(opt.w.c) * inv_m, g, ws.jw[t],
-                                 ws.pts[3 * t], ws.pts[3 * t + 1], ws.pts[3 * t + 2]);
+        sums[t].c = stencil_c<T>(desc, params, n, x, opt, T(opt.w.c) * inv_m, g, ws.jw[w],
+                                 ws.pts[3 * w], ws.pts[3 * w + 1], ws.pts[3 * w + 2]);
     } else {
       const int K = batch.k;
-      ws.jet[t].resize(size_t(C1) * K);
-      mlp_jet_forward<T>(desc, params, batch.xo, K, 1, ws.jet[t].data(), ws.jw[t]);
-      if (g) ws.djet[t].assign(size_t(C1) * K, T(0));
-      sums[t].s = strain_concentration_loss<T>(d, K, 1, ws.jet[t].data(), batch.no,
-                                               T(opt.w.s) * inv_k, g ? ws.djet[t].data() : nullptr);
-      if (g) mlp_jet_backward<T>(desc, params, batch.xo, K, 1, ws.djet[t].data(), g, ws.jw[t]);
+      ws.jet[w].resize(size_t(C1) * K);
+      mlp_jet_forward<T>(desc, params, batch.xo, K, 1, ws.jet[w].data(), ws.jw[w]);
+      if (g) ws.djet[w].assign(size_t(C1) * K, T(0));
+      sums[t].s = strain_concentration_loss<T>(d, K, 1, ws.jet[w].data(), batch.no,
+                                               T(opt.w.s) * inv_k, g ? ws.djet[w].data() : nullptr);
+      if (g) mlp_jet_backward<T>(desc, params, batch.xo, K, 1, ws.djet[w].data(), g, ws.jw[w]);
     }
   };
 
   // A parallel region costs microseconds (far more when the cores are shared), as much as a
   // whole small batch: spread only batches large enough to pay for it.
-  if (threads > 1 && tasks > 1 && batch.m + batch.k >= kParallelMinPoints) {
-#pragma omp parallel for num_threads(std::min(threads, tasks)) schedule(dynamic, 1)
-    for (int t = 0; t < tasks; ++t) run_task(t);
+  if (parallel) {
+#pragma omp parallel for num_threads(workers) schedule(dynamic, 1)
+    for (int t = 0; t < tasks; ++t) run_task(t, omp_get_thread_num());
   } else {
-    for (int t = 0; t < tasks; ++t) run_task(t);
+    for (int t = 0; t < tasks; ++t) run_task(t, 0);
   }
 
   // Reduce in task order: the result is the same for any thread count.

@@ -41,10 +41,10 @@ inline constexpr int kLossChunk = 64;
 
 template <class T>
 struct LossWorkspace {
-  std::vector<JetWorkspace<T>> jw;        // one per chunk (+1 for off-domain, +stencil)
-  std::vector<std::vector<T>> jet, djet;  // per chunk
-  std::vector<std::vector<T>> grad;       // per chunk parameter gradients
-  std::vector<std::vector<T>> pts;        // per chunk stencil points
+  std::vector<JetWorkspace<T>> jw;        // per worker thread
+  std::vector<std::vector<T>> jet, djet;  // per worker thread
+  std::vector<std::vector<T>> grad;       // per chunk parameter gradients (summed in order)
+  std::vector<std::vector<T>> pts;        // per worker thread: stencil points, values, adjoints
 };
 
 // Returns the losses; if grad is non-null it is overwritten with dL_total/dparams.

@@ -139,11 +139,12 @@ TEST_P(LossGrad, StencilConvergesToExactThirdDerivatives) {
 
 TEST_P(LossGrad, ThreadCountDoesNotChangeTheResult) {
   const int d = GetParam();
-  Problem p = make_problem(d, 200, 50, 51 + d);
+  // Large enough (>= 512 points) that the chunks are spread over the threads.
+  Problem p = make_problem(d, 600, 50, 51 + d);
   std::vector<float> pf(p.params.begin(), p.params.end()), xf(p.x.begin(), p.x.end()),
       yf(p.y.begin(), p.y.end()), gf(p.g.begin(), p.g.end()), xof(p.xo.begin(), p.xo.end()),
       nof(p.no.begin(), p.no.end());
-  cpu::LossBatch<float> b{200, xf.data(), yf.data(), gf.data(), 50, xof.data(), nof.data()};
+  cpu::LossBatch<float> b{600, xf.data(), yf.data(), gf.data(), 50, xof.data(), nof.data()};
   cpu::LossWorkspace<float> ws;
   std::vector<float> g1(pf.size()), g2(pf.size());
   auto v1 = cpu::mlp_loss_grad<float>(p.desc, pf.data(), b, {}, g1.data(), ws, 1);
