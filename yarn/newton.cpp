@@ -115,6 +115,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       if (std::isfinite(Et) && (Et <= E + 1e-4 * alpha * slope || -slope < 1e-13 * std::abs(E))) {
         st = std::move(trial);
         accepted = true;
+        if (opt.verbose) std::fprintf(stderr, "           step %.3g  slope %.3e  dE %.3e\n", alpha, slope, Et - E);
         break;
       }
       alpha *= 0.5;
