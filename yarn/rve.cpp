@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include <omp.h>
+
 #include "yarn/frames.hpp"
 
 namespace yarnhom::yarn {
@@ -293,7 +295,6 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   const bool ds = dEds != nullptr;
   if (grad) grad->setZero(ndof_);
   if (dEds) dEds->setZero();
-  EnergyParts e;
   const bool derivs = grad || hess || dEds;
   // Every point is computed once: the base tile, each vertex's neighbours along its yarn, and
   // (below) the images that contact pairs use.
@@ -312,78 +313,123 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
     return it->second;
   };
 
-  // Stretch, per edge (the vertex's outgoing edge).
-  for (int v = 0; v < n; ++v) {
-    const int w = topo_.next[v];
-    const Node& nw = nxt[v];
-    Vec6 g;
-    Mat6 H;
-    e.stretch += stretch_energy(base[v].x, nw.x, p_.rest_length[v], EA_, derivs ? &g : nullptr,
-                                hess ? &H : nullptr);
-    if (derivs) {
-      const Node* nodes[2] = {&base[v], &nw};
-      const int verts[2] = {v, w};
-      scatter<6>(2, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, grad, hess, dEds);
-    }
+  // Contact pairs and the images they use, found serially; then the three sums in parallel
+  // for large patterns (never inside the producer's own parallel sectors). Each thread keeps
+  // its own sums, reduced in thread order afterwards: with a static schedule the result is the
+  // same bit for bit from run to run at a given thread count.
+  // With a Hessian, pairs slightly beyond reach keep (zero) entries: a stable pattern.
+  const double margin = hess ? opt_.hessian_margin * p_.radius : 0.0;
+  const std::vector<Pair> pairs = contact_pairs(s, st, margin);
+  std::vector<const Node*> pb0(pairs.size()), pb1(pairs.size());  // element pointers stay valid
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    const Pair& pr = pairs[i];
+    pb0[i] = &image(pr.b, pr.o);
+    pb1[i] = &image(topo_.next[pr.b], pr.o + topo_.offset[pr.b]);
   }
-  // Bend and twist, per joint.
-  for (int v = 0; v < n; ++v) {
-    const int a = topo_.prev[v], b = topo_.next[v];
-    const Node& na = prv[v];
-    const Node& nb = nxt[v];
-    Vec11 q;
-    q << na.x, base[v].x, nb.x, st.theta[a], st.theta[v];
-    // The stored frames are rest-state (s = 0) vectors; each joint carries them with its own
-    // local mid-surface frame R_v before transporting them to the current tangents. That
-    // makes the directors periodic in the local frame, like the fluctuations: an edge that
-    // crosses the tile boundary is seen at two images with different tangents under curvature,
-    // and each joint turns the stored frame to its own image (docs/rve.md).
-    const Eigen::Matrix3d& Rv = base[v].R;
-    const JointFrames f{{Rv * st.frames.edge[a].t, Rv * st.frames.edge[a].d1},
-                        {Rv * st.frames.edge[v].t, Rv * st.frames.edge[v].d1},
-                        st.frames.twist[v]};
-    const JointRest rest{p_.rest_kappa[v], p_.rest_twist[v], 0.5 * (p_.rest_length[a] + p_.rest_length[v])};
-    if (parts || !derivs) {
-      e.bend += joint_energy(q, f, rest, EI_, GJ_, kBend, nullptr, nullptr);
-      e.twist += joint_energy(q, f, rest, EI_, GJ_, kTwist, nullptr, nullptr);
+  const bool par = n >= 150 && !omp_in_parallel() && omp_get_max_threads() > 1;
+  const int nthreads = par ? omp_get_max_threads() : 1;
+  struct Local {
+    EnergyParts e;
+    Eigen::VectorXd g;
+    std::vector<Eigen::Triplet<double>> trip;
+    Strain d = Strain::Zero();
+  };
+  std::vector<Local> local(nthreads);
+#pragma omp parallel num_threads(nthreads) if (par)
+  {
+    const int tid = par ? omp_get_thread_num() : 0;
+    Local& L = local[tid];
+    if (grad) L.g.setZero(ndof_);
+    Eigen::VectorXd* G = grad ? &L.g : nullptr;
+    std::vector<Eigen::Triplet<double>>* T = hess ? &L.trip : nullptr;
+    Strain* D = dEds ? &L.d : nullptr;
+    EnergyParts& e = L.e;
+    // Stretch, per edge (the vertex's outgoing edge).
+#pragma omp for schedule(static) nowait
+    for (int v = 0; v < n; ++v) {
+      const int w = topo_.next[v];
+      const Node& nw = nxt[v];
+      Vec6 g;
+      Mat6 H;
+      e.stretch += stretch_energy(base[v].x, nw.x, p_.rest_length[v], EA_, derivs ? &g : nullptr,
+                                  hess ? &H : nullptr);
+      if (derivs) {
+        const Node* nodes[2] = {&base[v], &nw};
+        const int verts[2] = {v, w};
+        scatter<6>(2, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, G, T, D);
+      }
     }
-    if (derivs) {
-      Vec11 g;
-      Mat11 H;
-      const double ej = joint_energy(q, f, rest, EI_, GJ_, kBendTwist, &g, hess ? &H : nullptr);
-      if (!parts) e.bend += ej;
-      const Node* nodes[3] = {&na, &base[v], &nb};
-      const int verts[3] = {a, v, b};
-      const int thv[2] = {a, v};
-      scatter<11>(3, nodes, verts, 2, thv, g, hess ? &H : nullptr, grad, hess, dEds);
-      if (dEds) {
-        // The joint also depends on s through R_v. The joint energy is invariant under a
-        // rotation of its points and frames together, so turning the frames alone by a small
-        // omega changes it by minus what turning the points does: -omega . sum (x_a x g_a).
-        Eigen::Vector3d torque = Eigen::Vector3d::Zero();
-        for (int k = 0; k < 3; ++k) torque += (q.segment<3>(3 * k) - base[v].x).cross(g.segment<3>(3 * k));
-        *dEds -= base[v].omega.transpose() * torque;
+    // Bend and twist, per joint.
+#pragma omp for schedule(static) nowait
+    for (int v = 0; v < n; ++v) {
+      const int a = topo_.prev[v], b = topo_.next[v];
+      const Node& na = prv[v];
+      const Node& nb = nxt[v];
+      Vec11 q;
+      q << na.x, base[v].x, nb.x, st.theta[a], st.theta[v];
+      // The stored frames are rest-state (s = 0) vectors; each joint carries them with its own
+      // local mid-surface frame R_v before transporting them to the current tangents. That
+      // makes the directors periodic in the local frame, like the fluctuations: an edge that
+      // crosses the tile boundary is seen at two images with different tangents under
+      // curvature, and each joint turns the stored frame to its own image (docs/rve.md).
+      const Eigen::Matrix3d& Rv = base[v].R;
+      const JointFrames f{{Rv * st.frames.edge[a].t, Rv * st.frames.edge[a].d1},
+                          {Rv * st.frames.edge[v].t, Rv * st.frames.edge[v].d1},
+                          st.frames.twist[v]};
+      const JointRest rest{p_.rest_kappa[v], p_.rest_twist[v], 0.5 * (p_.rest_length[a] + p_.rest_length[v])};
+      if (parts || !derivs) {
+        e.bend += joint_energy(q, f, rest, EI_, GJ_, kBend, nullptr, nullptr);
+        e.twist += joint_energy(q, f, rest, EI_, GJ_, kTwist, nullptr, nullptr);
+      }
+      if (derivs) {
+        Vec11 g;
+        Mat11 H;
+        const double ej = joint_energy(q, f, rest, EI_, GJ_, kBendTwist, &g, hess ? &H : nullptr);
+        if (!parts) e.bend += ej;
+        const Node* nodes[3] = {&na, &base[v], &nb};
+        const int verts[3] = {a, v, b};
+        const int thv[2] = {a, v};
+        scatter<11>(3, nodes, verts, 2, thv, g, hess ? &H : nullptr, G, T, D);
+        if (D) {
+          // The joint also depends on s through R_v. The joint energy is invariant under a
+          // rotation of its points and frames together, so turning the frames alone by a small
+          // omega changes it by minus what turning the points does: -omega . sum (x_a x g_a).
+          Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+          for (int k = 0; k < 3; ++k) torque += (q.segment<3>(3 * k) - base[v].x).cross(g.segment<3>(3 * k));
+          *D -= base[v].omega.transpose() * torque;
+        }
+      }
+    }
+    // Contact.
+#pragma omp for schedule(static) nowait
+    for (int i = 0; i < static_cast<int>(pairs.size()); ++i) {
+      const Pair& pr = pairs[i];
+      const int a1 = topo_.next[pr.a], b1 = topo_.next[pr.b];
+      const Node& na1 = nxt[pr.a];
+      const Node& nb0 = *pb0[i];
+      const Node& nb1 = *pb1[i];
+      Vec12 q;
+      q << base[pr.a].x, na1.x, nb0.x, nb1.x;
+      Vec12 g;
+      Mat12 H;
+      e.contact += segment_contact_energy(q, p_.rest_length[pr.a], p_.rest_length[pr.b], contact_,
+                                          derivs ? &g : nullptr, hess ? &H : nullptr);
+      if (derivs) {
+        const Node* nodes[4] = {&base[pr.a], &na1, &nb0, &nb1};
+        const int verts[4] = {pr.a, a1, pr.b, b1};
+        scatter<12>(4, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, G, T, D);
       }
     }
   }
-  // Contact. With a Hessian, pairs slightly beyond reach keep (zero) entries: a stable pattern.
-  const double margin = hess ? opt_.hessian_margin * p_.radius : 0.0;
-  for (const Pair& pr : contact_pairs(s, st, margin)) {
-    const int a1 = topo_.next[pr.a], b1 = topo_.next[pr.b];
-    const Node& na1 = nxt[pr.a];
-    const Node& nb0 = image(pr.b, pr.o);
-    const Node& nb1 = image(b1, pr.o + topo_.offset[pr.b]);
-    Vec12 q;
-    q << base[pr.a].x, na1.x, nb0.x, nb1.x;
-    Vec12 g;
-    Mat12 H;
-    e.contact += segment_contact_energy(q, p_.rest_length[pr.a], p_.rest_length[pr.b], contact_,
-                                        derivs ? &g : nullptr, hess ? &H : nullptr);
-    if (derivs) {
-      const Node* nodes[4] = {&base[pr.a], &na1, &nb0, &nb1};
-      const int verts[4] = {pr.a, a1, pr.b, b1};
-      scatter<12>(4, nodes, verts, 0, nullptr, g, hess ? &H : nullptr, grad, hess, dEds);
-    }
+  EnergyParts e;
+  for (const Local& L : local) {
+    e.stretch += L.e.stretch;
+    e.bend += L.e.bend;
+    e.twist += L.e.twist;
+    e.contact += L.e.contact;
+    if (grad) *grad += L.g;
+    if (hess) hess->insert(hess->end(), L.trip.begin(), L.trip.end());
+    if (dEds) *dEds += L.d;
   }
   if (parts) *parts = e;
   return e.total();

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
+#include <omp.h>
 #include <random>
 #include <set>
 #include <tuple>
@@ -297,4 +298,30 @@ TEST(Rve, BroadPhaseFindsExactlyTheInteractingPairsOfAllPairs) {
         }
   EXPECT_GT(interacting, 5);
   EXPECT_LT(found.size(), size_t(n * n * 25 / 2));  // not all pairs
+}
+
+TEST(Rve, ParallelAssemblyMatchesSerial) {
+  // 208 vertices: above the size where evaluate() splits its sums over threads.
+  const RveProblem rve(tile(small_knit(), 4, 4), Material{});
+  const RveState st = perturbed(rve, 9);
+  const Strain s = strain(0.1, 0.2, -0.05, 50, 20, -30);
+  auto run = [&](int threads, Eigen::VectorXd& g, Eigen::MatrixXd& H, Strain& d) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    std::vector<Eigen::Triplet<double>> trip;
+    const double E = rve.evaluate(s, st, &g, &trip, nullptr, &d);
+    Eigen::SparseMatrix<double> M(rve.num_dofs(), rve.num_dofs());
+    M.setFromTriplets(trip.begin(), trip.end());
+    H = Eigen::MatrixXd(M);
+    omp_set_num_threads(before);
+    return E;
+  };
+  Eigen::VectorXd g1, g2;
+  Eigen::MatrixXd H1, H2;
+  Strain d1, d2;
+  const double E1 = run(1, g1, H1, d1), E2 = run(2, g2, H2, d2);
+  EXPECT_NEAR(E2, E1, 1e-13 * E1);
+  EXPECT_LT((g2 - g1).norm(), 1e-12 * g1.norm());
+  EXPECT_LT((H2 - H1).norm(), 1e-12 * H1.norm());
+  EXPECT_LT((d2 - d1).norm(), 1e-12 * d1.norm());
 }
