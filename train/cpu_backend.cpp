@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/jet_layout.hpp"
 #include "cpu/flush_denormals.hpp"
 #include "train/backend.hpp"
 #include "train/epoch_plan.hpp"
@@ -50,6 +51,13 @@ class CpuBackend final : public Backend {
     std::vector<int> todo;
     for (size_t j = 0; j < nets_.size(); ++j)
       if (active[j]) todo.push_back(int(j));
+    // Longest first, so the dynamic schedule ends each epoch with the short jobs and the
+    // threads wait less for one another (each network's cost: its points times its channels).
+    auto cost = [&](int j) {
+      const NetworkJob& b = *nets_[j].job;
+      return double(b.n_train) * jet_channels(b.desc.input_dim, 3);
+    };
+    std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) { return cost(a) > cost(b); });
     const int T = std::max(1, cfg_.threads);
     if (todo.size() == 1 || T == 1) {
       for (int j : todo) stats[j] = epoch_one(nets_[j], epoch, lr[j], T);
