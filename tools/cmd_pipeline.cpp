@@ -44,7 +44,7 @@ struct Stage {
 
 void register_pipeline(CLI::App& app) {
   struct Opts {
-    std::string pattern, run, preset = "quick", backend = "cpu";
+    std::string pattern, run, preset = "quick", backend = "cpu", recipe = "paper";
     int threads = 0, epochs = 0;
     bool force = false;
   };
@@ -64,6 +64,9 @@ void register_pipeline(CLI::App& app) {
   cmd->add_option("--backend", o->backend, "Training backend: cpu or cuda")->capture_default_str();
   cmd->add_option("--threads", o->threads, "CPU threads for training (0: all cores)")->capture_default_str();
   cmd->add_option("--epochs", o->epochs, "Epochs per network (0: the paper's 500)")->capture_default_str();
+  cmd->add_option("--recipe", o->recipe, "Training recipe, as train-all's --recipe: paper or improved")
+      ->check(CLI::IsMember({"paper", "improved"}))
+      ->capture_default_str();
   cmd->add_flag("--force", o->force, "Rerun every stage");
   cmd->callback([o, parent] {
     const auto t_all = std::chrono::steady_clock::now();
@@ -94,7 +97,8 @@ void register_pipeline(CLI::App& app) {
       if (o->threads > 0) { args.push_back("--threads"); args.push_back(std::to_string(o->threads)); }
       stages.push_back({"produce", args, in, {ds}});
     }
-    std::vector<std::string> train = {"train-all", ds, "-o", model, "--backend", o->backend, "-q"};
+    std::vector<std::string> train = {"train-all", ds, "-o", model, "--backend", o->backend, "-q",
+                                      "--recipe", o->recipe};
     if (o->threads > 0) { train.push_back("--threads"); train.push_back(std::to_string(o->threads)); }
     if (o->epochs > 0) { train.push_back("--epochs"); train.push_back(std::to_string(o->epochs)); }
     stages.push_back({"train-all", train, {ds}, {model}});
