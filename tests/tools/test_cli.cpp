@@ -13,25 +13,15 @@
 
 #include "core/model.hpp"
 
+#include "tests/common/run_cli.hpp"
+
 namespace fs = std::filesystem;
+
+using Result = yarnhom::test::CliResult;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string out;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(YARNHOM_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+Result run(const std::string& args) { return yarnhom::test::run_cli(args); }
 
 struct Dir {
   fs::path dir;

@@ -11,25 +11,15 @@
 #include <filesystem>
 #include <sstream>
 
+#include "tests/common/run_cli.hpp"
+
 namespace fs = std::filesystem;
+
+using Result = yarnhom::test::CliResult;
 
 namespace {
 
-struct Result {
-  int status;
-  std::string out;
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(YARNHOM_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
-  const int st = pclose(p);
-  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
-}
+Result run(const std::string& args) { return yarnhom::test::run_cli(args); }
 
 std::string tmpdir(const char* name) {
   fs::path d = fs::temp_directory_path() / ("yarnhom_e2e_" + std::to_string(::getpid()) + "_" + name);
