@@ -4,11 +4,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "cuda/api.hpp"
 #include "cuda/check.cuh"
 #include "cuda/jet_block.cuh"
+#include "cuda/mma_jet.cuh"
 
 namespace yarnhom::cuda {
 
@@ -226,6 +229,90 @@ __global__ void loss_grad_kernel(NetShape s, const float* params, LossCfg cfg, B
   }
 }
 
+// The tensor-core warp path of loss_grad_kernel (cuda/mma_jet.cuh): the batch's data points
+// in tiles of 8, then its off-domain points in tiles of 8, tile w, w + W, ... to global warp
+// w of W. Each warp keeps its gradient in registers; at the end the warps write it to their
+// (now free) buffers and the block sums them in warp order into partial[block].
+inline constexpr int kMmaMaxWarps = 16;
+template <int D, int ORDER>
+__global__ void mma_loss_grad_kernel(NetShape s, const float* params, LossCfg cfg, BatchSrc src, float inv_m,
+                                     float inv_k, float* partial, float* sums, int with_grad) {
+  extern __shared__ float4 smem4[];
+  __shared__ Sums5 wsum[kMmaMaxWarps];
+  constexpr int WF = mma_warp_floats(D, ORDER), MTB = mma_mtiles_max(D, ORDER);
+  float* sm = reinterpret_cast<float*>(smem4);
+  const int P4 = (s.P + 3) & ~3;
+  float* W = sm;
+  float4* frag = reinterpret_cast<float4*>(sm + P4);
+  float* wbuf = sm + P4 + kMmaFragFloats;
+  load_params(params, W, s.P);
+  __syncthreads();
+  mma_prepare_frags(s, W, frag);
+  __syncthreads();
+  const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31, nw = blockDim.x >> 5;
+  float* mine = wbuf + size_t(warp) * WF;
+  float4* slot1 = reinterpret_cast<float4*>(mine);
+  float4* slot2 = slot1 + MTB * (kMmaH1 / 8) * 32;
+  float4* buf = slot2 + MTB * (kMmaH2 / 8) * 32;
+  MmaGrad<D> gr;
+  zero(gr);
+  Sums5 ls;
+  const bool grad = with_grad != 0;
+  const int nd = (src.m + 7) / 8, no = src.k > 0 ? (src.k + 7) / 8 : 0;
+  for (int tk = blockIdx.x * nw + warp; tk < nd + no; tk += gridDim.x * nw) {
+    if (tk < nd) {
+      mma_tile<D, ORDER, false, MTB>(s, W, frag, cfg, src, inv_m, inv_k, tk * 8, min(8, src.m - tk * 8), slot1, slot2,
+                                     buf, grad, gr, ls);
+    } else {
+      const int b = (tk - nd) * 8;
+      mma_tile<D, 1, true, MTB>(s, W, frag, cfg, src, inv_m, inv_k, b, min(8, src.k - b), slot1, slot2, buf, grad, gr,
+                                ls);
+    }
+  }
+  ls.z = sum_over_points(ls.z);
+  ls.f = sum_over_points(ls.f);
+  ls.c = sum_over_points(ls.c);
+  ls.s = sum_over_points(ls.s);
+  ls.x = sum_over_points(ls.x);
+  if (lane == 0) wsum[warp] = ls;
+  if (grad) mma_write_grad(s, gr, mine, lane);
+  __syncthreads();
+  if (grad)
+    for (int i = threadIdx.x; i < s.P; i += blockDim.x) {
+      float acc = wbuf[i];
+      for (int w = 1; w < nw; ++w) acc += wbuf[size_t(w) * WF + i];
+      partial[size_t(blockIdx.x) * s.P + i] = acc;
+    }
+  if (threadIdx.x == 0) {
+    Sums5 t = wsum[0];
+    for (int w = 1; w < nw; ++w) t.z += wsum[w].z, t.f += wsum[w].f, t.c += wsum[w].c, t.s += wsum[w].s, t.x += wsum[w].x;
+    float* o = sums + 5 * blockIdx.x;
+    o[0] = t.z, o[1] = t.f, o[2] = t.c, o[3] = t.s, o[4] = t.x;
+  }
+}
+
+// One m16n8k8 TF32 MMA of a single warp, fragments by the documented layout (mma_tf32_probe).
+__global__ void mma_probe_kernel(const float* A, const float* B, float* Dm, int three) {
+  const int lane = threadIdx.x, g = lane >> 2, t = lane & 3;
+  const float a0 = A[g * 8 + t], a1 = A[(g + 8) * 8 + t], a2 = A[g * 8 + t + 4], a3 = A[(g + 8) * 8 + t + 4];
+  const float b0 = B[t * 8 + g], b1 = B[(t + 4) * 8 + g];
+  float4 d = make_float4(0.f, 0.f, 0.f, 0.f);
+  if (three) {
+    const Tf32x4 a = split4(a0, a1, a2, a3);
+    uint32_t b0b, b0s, b1b, b1s;
+    split_tf32(b0, b0b, b0s);
+    split_tf32(b1, b1b, b1s);
+    mma3(d, a, b0b, b1b, b0s, b1s);
+  } else {
+    const uint32_t a[4] = {__float_as_uint(a0), __float_as_uint(a1), __float_as_uint(a2), __float_as_uint(a3)};
+    mma_tf32(d, a, __float_as_uint(b0), __float_as_uint(b1));
+  }
+  Dm[g * 8 + 2 * t] = d.x;
+  Dm[g * 8 + 2 * t + 1] = d.y;
+  Dm[(g + 8) * 8 + 2 * t] = d.z;
+  Dm[(g + 8) * 8 + 2 * t + 1] = d.w;
+}
+
 // dst[i] (+)= sum over blocks b in order of partial[b*P + i].
 __global__ void reduce_blocks_kernel(const float* partial, int blocks, int P, float* dst, int accumulate) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -371,10 +458,59 @@ struct BwdSel {
   }
 };
 
+bool use_block_path() {
+  static const bool env = [] {
+    const char* e = std::getenv("YARNHOM_CUDA_PATH");
+    return e != nullptr && std::strcmp(e, "block") == 0;
+  }();
+  return env || g_shape.block_path;
+}
+
+// The warp path's launch: as many warps per block as shared memory (the per-warp buffers) and
+// registers allow, up to 16, and as many blocks as fit on the GPU at once (at most one warp
+// per tile).
+template <int D, int O>
+void launch_mma_loss_grad(const NetShape& s, const float* params, const LossCfg& cfg, const BatchSrc& src,
+                          float inv_m, float inv_k, float* grad, JetWorkspace& ws, int* blocks_out) {
+  auto kernel = mma_loss_grad_kernel<D, O>;
+  constexpr int WF = mma_warp_floats(D, O);
+  if (s.P > WF) throw std::logic_error("mma_loss_grad_kernel: the gradient does not fit a warp's buffer");
+  const int P4 = (s.P + 3) & ~3;
+  const size_t fixed = size_t(P4 + kMmaFragFloats) * sizeof(float), per_warp = size_t(WF) * sizeof(float);
+  cudaFuncAttributes attr{};
+  check(cudaFuncGetAttributes(&attr, kernel), "cudaFuncGetAttributes");
+  int nw = std::min<int>(kMmaMaxWarps, attr.maxThreadsPerBlock / 32);
+  nw = std::min<int>(nw, int((size_t(smem_optin()) - attr.sharedSizeBytes - fixed) / per_warp));
+  if (g_shape.threads > 0) nw = std::max(1, std::min(nw, g_shape.threads / 32));
+  if (nw < 1) throw std::invalid_argument("the tensor-core path does not fit this GPU's shared memory");
+  const size_t smem = fixed + nw * per_warp;
+  allow_smem(kernel, smem);
+  int per_sm = 0;
+  check(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, kernel, nw * 32, smem),
+        "cudaOccupancyMaxActiveBlocksPerMultiprocessor");
+  const int tiles = (src.m + 7) / 8 + (src.k > 0 ? (src.k + 7) / 8 : 0);
+  const int want = g_shape.blocks > 0 ? g_shape.blocks : sm_count() * std::max(1, per_sm);
+  const int blocks = std::max(1, std::min(want, (tiles + nw - 1) / nw));
+  if (grad) ws.partial.resize(size_t(blocks) * s.P);
+  ws.sums.resize(size_t(blocks) * 5);
+  kernel<<<blocks, nw * 32, smem>>>(s, params, cfg, src, inv_m, inv_k, grad ? ws.partial.data() : nullptr,
+                                    ws.sums.data(), grad ? 1 : 0);
+  check(cudaGetLastError(), "launch of the tensor-core loss kernel");
+  if (grad) {
+    reduce_blocks_kernel<<<(s.P + 255) / 256, 256>>>(ws.partial.data(), blocks, s.P, grad, 0);
+    check(cudaGetLastError(), "launch of the gradient reduction kernel");
+  }
+  *blocks_out = blocks;
+}
+
 template <int D, int O>
 struct LossSel {
   static void run(const NetShape& s, const float* params, const LossCfg& cfg, const BatchSrc& src, float inv_m,
                   float inv_k, float* grad, JetWorkspace& ws, int* blocks_out) {
+    if (mma_path_fits(s) && !use_block_path()) {
+      launch_mma_loss_grad<D, O>(s, params, cfg, src, inv_m, inv_k, grad, ws, blocks_out);
+      return;
+    }
     Launch l = pick_launch(s, 1, grad != nullptr);
     const TaskPlan tp = plan_tasks<D, O>(l.S, src.m, src.k);
     l = pick_launch(s, std::max(1, tp.tasks()), grad != nullptr);
@@ -494,6 +630,14 @@ void mlp_loss_grad_launch(const NetworkDesc& desc, const float* params, const cp
   if (q.src.m + q.src.k == 0) return;
   int blocks = 0;
   dispatch<LossSel>(q.s.d, q.order, q.s, params, q.cfg, q.src, q.inv_m, q.inv_k, grad, ws, &blocks);
+}
+
+std::vector<float> mma_tf32_probe(const std::vector<float>& a, const std::vector<float>& b, bool three) {
+  if (a.size() != 128 || b.size() != 64) throw std::invalid_argument("mma_tf32_probe: A is 16x8, B 8x8");
+  DeviceVec<float> da(a), db(b), dd(128);
+  mma_probe_kernel<<<1, 32>>>(da.data(), db.data(), dd.data(), three ? 1 : 0);
+  check(cudaGetLastError(), "launch of the MMA probe kernel");
+  return dd.download();
 }
 
 EventTimer::EventTimer() {

@@ -74,9 +74,12 @@ struct JetWorkspace {
 };
 
 // Launch shape of the multi-block twins: threads per block and the column stride of a chunk
-// in shared memory (cuda/jet_block.cuh). 0 = the defaults.
+// in shared memory (cuda/jet_block.cuh). 0 = the defaults. mlp_loss_grad of the paper's Net-3
+// runs on the tensor-core warp path (cuda/mma_jet.cuh; threads and blocks apply, the stride
+// does not) unless block_path is set (or the environment variable YARNHOM_CUDA_PATH=block).
 struct LaunchShape {
   int threads = 0, stride = 0, blocks = 0;
+  bool block_path = false;
 };
 void set_launch_shape(const LaunchShape& s);  // for benchmarks
 
@@ -115,6 +118,11 @@ cpu::LossValues mlp_loss_grad(const NetworkDesc& desc, const float* params,
 // For benchmarks: only the launches of mlp_loss_grad (no copy of the loss sums to the host).
 void mlp_loss_grad_launch(const NetworkDesc& desc, const float* params, const cpu::LossBatch<float>& batch,
                           const cpu::LossOptions& opt, float* grad, JetWorkspace& ws);
+
+// For tests: D = A B of one warp-level m16n8k8 TF32 MMA (A 16x8, B 8x8, D 16x8, row-major),
+// its fragments loaded and stored by the layout cuda/mma_jet.cuh relies on; three = true runs
+// the 3xTF32 split (big and small parts) instead of one TF32 MMA.
+std::vector<float> mma_tf32_probe(const std::vector<float>& a, const std::vector<float>& b, bool three);
 
 // The GPU's FP32 rate in FLOP/s (an FMA counts 2), measured with long independent FMA chains
 // in every thread of a full grid (cuda/peak.cu).

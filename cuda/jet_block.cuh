@@ -482,6 +482,82 @@ __device__ inline void warp0_sum(const float* lp, int S, int np, int nq, float* 
   }
 }
 
+// The data losses of one point (twin of cpu::data_losses on one point): jet[C] -> the loss
+// terms and, with the weights already multiplied by the batch scale (wz..wx), the adjoint of
+// every channel in adj[C] (zeroed here). Shared by the block path (chunk_data_losses) and the
+// tensor-core warp path (cuda/mma_jet.cuh).
+struct PointLoss {
+  float z = 0, f = 0, c = 0, x = 0;
+};
+template <int D, int ORDER>
+__device__ inline PointLoss point_data_loss(const LossCfg& cfg, float wz, float wf, float wc, float wx,
+                                            const float* jet, float y, const float* g, float* adj) {
+  constexpr int C = jet_channels(D, ORDER);
+  PointLoss l;
+#pragma unroll
+  for (int c = 0; c < C; ++c) adj[c] = 0.f;
+  if (cfg.wz != 0) {
+    const float r = jet[0] - y;
+    l.z = r * r;
+    adj[0] += wz * 2.f * r;
+  }
+  if constexpr (ORDER >= 1) {
+    if (cfg.wf != 0) {
+#pragma unroll
+      for (int i = 0; i < D; ++i) {
+        const float r = jet[1 + i] - g[i];
+        l.f += r * r;
+        adj[1 + i] += wf * 2.f * r;
+      }
+    }
+  }
+  if constexpr (ORDER >= 3) {
+    if (cfg.wc != 0) {
+#pragma unroll
+      for (int t = 0; t < jet_num_triples(D); ++t) {
+        const int c = jet_first(D, 3) + t;
+        const float v = jet[c];
+        l.c += fabsf(v);
+        adj[c] += wc * float((v > 0) - (v < 0));
+      }
+    }
+  }
+  if constexpr (ORDER >= 2) {
+    if (cfg.wx != 0) {
+      const int c0 = jet_first(D, 2);
+      float lam, da = 1, db = 0, dc = 0;
+      if (D == 1) {
+        lam = jet[c0];
+      } else {
+        // cpu::min_eigenvalue_2x2
+        const float a = jet[c0], b = jet[c0 + 1], c = jet[c0 + 2];
+        const float h = (a - c) / 2.f;
+        const float r2 = h * h + b * b;
+        const float r = r2 > 0.f ? sqrtf(r2) : 0.f;
+        if (r > 0.f) {
+          da = 0.5f - h / (2.f * r);
+          dc = 0.5f + h / (2.f * r);
+          db = -b / r;
+        } else {
+          da = dc = 0.5f;
+          db = 0.f;
+        }
+        lam = (a + c) / 2.f - r;
+      }
+      if (lam < 0) {
+        l.x = lam * lam;
+        const float gl = wx * 2.f * lam;
+        adj[c0] += gl * da;
+        if (D == 2) {
+          adj[c0 + 1] += gl * db;
+          adj[c0 + 2] += gl * dc;
+        }
+      }
+    }
+  }
+  return l;
+}
+
 // The data losses of a chunk (twin of cpu::data_losses) on ch.out, writing the adjoint ch.dout
 // (every channel) when grad; per-point terms into ch.lp, summed by warp 0 into *out (lane 0).
 template <int D, int ORDER>
@@ -493,78 +569,16 @@ __device__ void chunk_data_losses(const LossCfg& cfg, int np, float scale, bool 
   for (int p = threadIdx.x; p < np; p += blockDim.x) {
     float jet[C], adj[C];
 #pragma unroll
-    for (int c = 0; c < C; ++c) {
-      jet[c] = ch.out[c * np + p];
-      adj[c] = 0.f;
-    }
-    float lz = 0, lf = 0, lc = 0, lx = 0;
-    if (cfg.wz != 0) {
-      const float r = jet[0] - ch.y[p];
-      lz = r * r;
-      adj[0] += wz * 2.f * r;
-    }
-    if constexpr (ORDER >= 1) {
-      if (cfg.wf != 0) {
-#pragma unroll
-        for (int i = 0; i < D; ++i) {
-          const float r = jet[1 + i] - ch.g[p * D + i];
-          lf += r * r;
-          adj[1 + i] += wf * 2.f * r;
-        }
-      }
-    }
-    if constexpr (ORDER >= 3) {
-      if (cfg.wc != 0) {
-#pragma unroll
-        for (int t = 0; t < jet_num_triples(D); ++t) {
-          const int c = jet_first(D, 3) + t;
-          const float v = jet[c];
-          lc += fabsf(v);
-          adj[c] += wc * float((v > 0) - (v < 0));
-        }
-      }
-    }
-    if constexpr (ORDER >= 2) {
-      if (cfg.wx != 0) {
-        const int c0 = jet_first(D, 2);
-        float lam, da = 1, db = 0, dc = 0;
-        if (D == 1) {
-          lam = jet[c0];
-        } else {
-          // cpu::min_eigenvalue_2x2
-          const float a = jet[c0], b = jet[c0 + 1], c = jet[c0 + 2];
-          const float h = (a - c) / 2.f;
-          const float r2 = h * h + b * b;
-          const float r = r2 > 0.f ? sqrtf(r2) : 0.f;
-          if (r > 0.f) {
-            da = 0.5f - h / (2.f * r);
-            dc = 0.5f + h / (2.f * r);
-            db = -b / r;
-          } else {
-            da = dc = 0.5f;
-            db = 0.f;
-          }
-          lam = (a + c) / 2.f - r;
-        }
-        if (lam < 0) {
-          lx = lam * lam;
-          const float gl = wx * 2.f * lam;
-          adj[c0] += gl * da;
-          if (D == 2) {
-            adj[c0 + 1] += gl * db;
-            adj[c0 + 2] += gl * dc;
-          }
-        }
-      }
-    }
+    for (int c = 0; c < C; ++c) jet[c] = ch.out[c * np + p];
+    const PointLoss l = point_data_loss<D, ORDER>(cfg, wz, wf, wc, wx, jet, ch.y[p], &ch.g[p * D], adj);
     if (grad) {
 #pragma unroll
       for (int c = 0; c < C; ++c) ch.dout[c * np + p] = adj[c];
     }
-    ch.lp[0 * S + p] = lz;
-    ch.lp[1 * S + p] = lf;
-    ch.lp[2 * S + p] = lc;
-    ch.lp[3 * S + p] = lx;
+    ch.lp[0 * S + p] = l.z;
+    ch.lp[1 * S + p] = l.f;
+    ch.lp[2 * S + p] = l.c;
+    ch.lp[3 * S + p] = l.x;
   }
   __syncthreads();
   float r[4];

@@ -68,6 +68,7 @@ void BM_Cuda_FusedFwdBwd(benchmark::State& state) {
   cuda::LaunchShape shape;
   shape.threads = int(state.range(2));
   shape.stride = int(state.range(3));
+  shape.block_path = state.range(4) != 0;
   cuda::set_launch_shape(shape);
   Problem pr(d, n);
   cuda::DeviceVec<float> dp(pr.p), dx(pr.x), dy(pr.y), dg(pr.g), grad(pr.p.size());
@@ -122,7 +123,7 @@ void sizes(benchmark::internal::Benchmark* b, bool cuda) {
   for (int d : {1, 2})
     for (int lg = 2; lg <= (cuda ? 20 : 18); lg += 2) {
       if (cuda)
-        b->Args({d, 1 << lg, 0, 0});
+        b->Args({d, 1 << lg, 0, 0, 0});
       else
         b->Args({d, 1 << lg});
     }
@@ -131,10 +132,26 @@ void sizes(benchmark::internal::Benchmark* b, bool cuda) {
 
 }  // namespace
 
+// Args: d, batch, threads per block (0: default), chunk stride (block path; 0: default),
+// block path (1) or the tensor-core warp path (0, the default for Net-3).
 BENCHMARK(BM_Cuda_FusedFwdBwd)->Apply([](auto* b) { sizes(b, true); });
-// Launch shapes at the largest batch: (threads per block, chunk stride in floats).
+// The block path (the kernel before the tensor-core path) at the largest batch, same process.
 BENCHMARK(BM_Cuda_FusedFwdBwd)
-    ->ArgsProduct({{1, 2}, {1 << 20}, {128, 256, 512}, {68, 100, 196, 228}})
+    ->ArgsProduct({{1, 2}, {1 << 20}, {0}, {0}, {1}})
+    ->UseManualTime()
+    ->MinTime(0.2)
+    ->Unit(benchmark::kMicrosecond)
+    ->Name("BM_Cuda_BlockPath");
+// Warps per block of the tensor-core path at the largest batch (capped by shared memory).
+BENCHMARK(BM_Cuda_FusedFwdBwd)
+    ->ArgsProduct({{1, 2}, {1 << 20}, {128, 256, 384, 512}, {0}, {0}})
+    ->UseManualTime()
+    ->MinTime(0.2)
+    ->Unit(benchmark::kMicrosecond)
+    ->Name("BM_Cuda_MmaWarps");
+// Launch shapes of the block path at the largest batch: (threads per block, chunk stride).
+BENCHMARK(BM_Cuda_FusedFwdBwd)
+    ->ArgsProduct({{1, 2}, {1 << 20}, {128, 256, 512}, {68, 100, 196, 228}, {1}})
     ->UseManualTime()
     ->MinTime(0.2)
     ->Unit(benchmark::kMicrosecond)

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
+#include <algorithm>
 #include <random>
 
 #include "cpu/adam.hpp"
@@ -171,9 +173,98 @@ TEST_P(CudaKernels, FusedLossGradMatchesCpu) {
   }
 }
 
+// The fused loss + gradient at every data-jet order (L_C on: 3; off, L_X on: 2; both off: 1),
+// on both code paths (the tensor-core warp path, the default for Net-3, and the block path),
+// on a batch large enough that every warp of every block takes several tiles.
+TEST_P(CudaKernels, FusedLossGradOrdersAndPathsMatchCpu) {
+  REQUIRE_GPU();
+  const int d = GetParam();
+  const NetworkDesc desc = net(d);
+  const int m = 40000 + 3, K = 1001;
+  const auto p = test::random_params<float>(desc, 77);
+  const auto x = uniform(size_t(m) * d, -1.f, 1.f, 71), y = uniform(m, -1.f, 1.f, 72),
+             g = uniform(size_t(m) * d, -1.f, 1.f, 73), xo = uniform(size_t(K) * d, -1.5f, 1.5f, 74),
+             no = uniform(size_t(K) * d, -1.f, 1.f, 75);
+  cuda::DeviceVec<float> dp(p), dx(x), dy(y), dg(g), dxo(xo), dno(no), dgrad(p.size());
+  cpu::LossBatch<float> hb{m, x.data(), y.data(), g.data(), K, xo.data(), no.data()};
+  cpu::LossBatch<float> db{m, dx.data(), dy.data(), dg.data(), K, dxo.data(), dno.data()};
+  for (int order : {3, 2, 1}) {
+    cpu::LossOptions opt;
+    opt.w.x = order == 1 ? 0.0 : 0.1;
+    if (order < 3) opt.w.c = 0;
+    ASSERT_EQ(cpu::data_jet_order(opt), order);
+    cpu::LossWorkspace<float> cws;
+    std::vector<float> ref(p.size());
+    const cpu::LossValues rv = cpu::mlp_loss_grad<float>(desc, p.data(), hb, opt, ref.data(), cws);
+    for (bool block_path : {false, true}) {
+      cuda::LaunchShape shape;
+      shape.block_path = block_path;
+      cuda::set_launch_shape(shape);
+      cuda::JetWorkspace ws;
+      const cpu::LossValues gv = cuda::mlp_loss_grad(desc, dp.data(), db, opt, dgrad.data(), ws);
+      cuda::set_launch_shape({});
+      const std::string what = "d=" + std::to_string(d) + " order=" + std::to_string(order) +
+                               (block_path ? " block path" : " tensor-core path");
+      EXPECT_NEAR(gv.total, rv.total, 1e-5 * rv.total) << what;
+      EXPECT_NEAR(gv.z, rv.z, 1e-5 * rv.z) << what;
+      EXPECT_NEAR(gv.f, rv.f, 1e-5 * rv.f) << what;
+      EXPECT_NEAR(gv.c, rv.c, 1e-5 * rv.c + 1e-12) << what;
+      EXPECT_NEAR(gv.x, rv.x, 1e-5 * rv.x + 1e-12) << what;
+      EXPECT_NEAR(gv.s, rv.s, 1e-5 * rv.s + 1e-12) << what;
+      const auto gg = dgrad.download();
+      double worst = 0;
+      for (int k = 0; k < desc.num_layers(); ++k) {
+        const int off = desc.weight_offset(k), n = desc.weight_offset(k + 1) - off;
+        const double e = rel_err(&gg[off], &ref[off], n);
+        worst = std::max(worst, e);
+        EXPECT_LT(e, 1e-4) << what << " layer " << k;
+      }
+      std::printf("  %s: loss rel %.1e, worst layer gradient rel %.1e\n", what.c_str(),
+                  std::abs(gv.total - rv.total) / rv.total, worst);
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Dims, CudaKernels, ::testing::Values(1, 2), [](const auto& i) {
   return "d" + std::to_string(i.param);
 });
+
+// The fragment layout of mma.sync m16n8k8 TF32 that cuda/mma_jet.cuh relies on (A: a0 =
+// (g, t), a1 = (g + 8, t), a2 = (g, t + 4), a3 = (g + 8, t + 4); B: b0 = (k = t, n = g),
+// b1 = (t + 4, g); C: c0, c1 = (g, 2t), (g, 2t + 1); c2, c3 = rows g + 8), g = lane / 4,
+// t = lane % 4: small integers (exact in TF32) give the exact product; random floats through
+// the 3xTF32 split agree with the double product to float accuracy, one TF32 MMA only to ~1e-3.
+TEST(CudaMma, FragmentLayoutAnd3xTf32) {
+  REQUIRE_GPU();
+  std::vector<float> a(128), b(64);
+  for (int i = 0; i < 128; ++i) a[i] = float((i * 7) % 23 - 11);
+  for (int i = 0; i < 64; ++i) b[i] = float((i * 5) % 17 - 8);
+  auto ref = [&](const std::vector<float>& A, const std::vector<float>& B) {
+    std::vector<double> r(128, 0.0);
+    for (int m = 0; m < 16; ++m)
+      for (int n = 0; n < 8; ++n)
+        for (int k = 0; k < 8; ++k) r[m * 8 + n] += double(A[m * 8 + k]) * B[k * 8 + n];
+    return r;
+  };
+  const auto exact = ref(a, b);
+  for (bool three : {false, true}) {
+    const auto got = cuda::mma_tf32_probe(a, b, three);
+    for (int i = 0; i < 128; ++i) EXPECT_EQ(double(got[i]), exact[i]) << "element " << i << (three ? " 3xTF32" : "");
+  }
+  a = uniform(128, -1.f, 1.f, 81);
+  b = uniform(64, -1.f, 1.f, 82);
+  const auto r = ref(a, b);
+  double e1 = 0, e3 = 0, scale = 0;
+  const auto g1 = cuda::mma_tf32_probe(a, b, false), g3 = cuda::mma_tf32_probe(a, b, true);
+  for (int i = 0; i < 128; ++i) {
+    e1 = std::max(e1, std::abs(g1[i] - r[i]));
+    e3 = std::max(e3, std::abs(g3[i] - r[i]));
+    scale = std::max(scale, std::abs(r[i]));
+  }
+  std::printf("  max error over max |D|: 1xTF32 %.1e, 3xTF32 %.1e\n", e1 / scale, e3 / scale);
+  EXPECT_LT(e3 / scale, 1e-6);
+  EXPECT_GT(e1 / scale, 1e-5);  // the split matters
+}
 
 TEST(CudaAdam, MatchesCpu) {
   REQUIRE_GPU();
