@@ -34,12 +34,51 @@ double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad) {
 }
 
 namespace {
+
+// SolveReport::sensitivity: H du/dt = -(dg/ds) D for every direction D, with the last Newton
+// factorization when there is one (else the Hessian at the solution, assembled here).
+template <class Factor>
+void sensitivities(const RveProblem& rve, const Strain& s, const RveState& st, const Eigen::VectorXd& g,
+                   const SolveOptions& opt, Factor* factor, SolveReport& rep) {
+  Factor own;
+  if (!factor) {
+    std::vector<Eigen::Triplet<double>> trip;
+    Eigen::VectorXd g0;
+    rve.evaluate(s, st, &g0, &trip);
+    Eigen::SparseMatrix<double> H(rve.num_dofs(), rve.num_dofs());
+    H.setFromTriplets(trip.begin(), trip.end());
+    own.compute(H);
+    if (own.info() != Eigen::Success) return;
+    factor = &own;
+  }
+  constexpr double h = 1e-7;
+  Eigen::VectorXd gp;
+  rep.sensitivity.clear();
+  for (const Strain& D : opt.sensitivity_directions) {
+    rve.evaluate(s + h * D, st, &gp);
+    Eigen::VectorXd du = factor->solve(-(gp - g) / h);
+    if (!du.allFinite()) du.setZero();
+    rep.sensitivity.push_back(std::move(du));
+  }
+}
+
 double thread_cpu_seconds() {
   timespec ts;
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 }  // namespace
+
+std::vector<Eigen::VectorXd> equilibrium_sensitivity(const RveProblem& rve, const Strain& s, const RveState& st,
+                                                     const std::vector<Strain>& directions) {
+  SolveOptions opt;
+  opt.sensitivity_directions = directions;
+  SolveReport rep;
+  Eigen::VectorXd g;
+  rve.evaluate(s, st, &g);
+  sensitivities(rve, s, st, g, opt, static_cast<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>*>(nullptr), rep);
+  return rep.sensitivity;
+}
 
 SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const SolveOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -52,6 +91,8 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
   std::vector<int> last_outer, last_inner;
   double mu = 0.0;
+  bool factored = false, full_step = false;
+  int skip_plain = 0, plain_backoff = 0;
   auto finish = [&](SolveStatus status) {
     rep.status = status;
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -66,7 +107,10 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     rep.iterations = it;
     if (!std::isfinite(E) || !std::isfinite(rep.residual)) return finish(SolveStatus::kNonFinite);
     if (opt.verbose) std::fprintf(stderr, "  newton %3d  E %.12g  residual %.3e  mu %.1e\n", it, E, rep.residual, mu);
-    if (rep.residual <= opt.tolerance) return finish(SolveStatus::kConverged);
+    if (rep.residual <= opt.tolerance) {
+      if (!opt.sensitivity_directions.empty()) sensitivities(rve, s, st, g, opt, factored ? &ldlt : nullptr, rep);
+      return finish(SolveStatus::kConverged);
+    }
     if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);
 
     H.setFromTriplets(trip.begin(), trip.end());
@@ -83,7 +127,14 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     }
     const Eigen::VectorXd diag = H.diagonal().cwiseAbs().cwiseMax(1e-300);
     Eigen::SparseMatrix<double> Hs;
-    mu = mu < 1e-8 ? 0.0 : mu / 10;  // (after a failed line search: the raised mu, tenfold less)
+    // After a full step try plain Newton first (see newton.hpp), falling back to a tenth of
+    // the last shift; otherwise (and after a failed line search, which raised mu) start there.
+    // Where plain Newton just failed (an indefinite region) it is tried again only after
+    // 1, 2, 4, 8 iterations, so that it does not cost a wasted factorization every iteration.
+    const double resume = mu < 1e-7 ? 0.0 : mu / 10;
+    const bool try_plain = full_step && skip_plain == 0;
+    if (skip_plain > 0) --skip_plain;
+    mu = try_plain ? 0.0 : resume;
     for (int tries = 0;; ++tries) {
       const Eigen::SparseMatrix<double>* M = &H;
       if (mu > 0) {
@@ -99,8 +150,15 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       }
       if (ok) break;
       if (tries > 40) return finish(SolveStatus::kNonFinite);
-      mu = mu == 0 ? 1e-8 : mu * 10;
+      if (mu == 0) plain_backoff = std::min(2 * plain_backoff + 1, 8), skip_plain = plain_backoff;
+      if (mu == 0 && resume > 0) {
+        mu = resume;  // plain Newton failed: go on from the last shift
+      } else {
+        mu = mu == 0 ? 1e-8 : mu * 10;
+      }
     }
+    factored = true;
+    if (mu == 0) plain_backoff = 0;
     if (mu > 0) ++rep.shifted;
 
     // Armijo backtracking on the energy. Once the predicted decrease is at round-off level of
@@ -111,8 +169,24 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     for (int ls = 0; ls < 40; ++ls) {
       RveState trial = st;
       rve.apply_step(d, alpha, trial);
-      const double Et = rve.evaluate(s, trial, nullptr, nullptr);
+      double Et = rve.evaluate(s, trial, nullptr, nullptr);
       if (std::isfinite(Et) && (Et <= E + 1e-4 * alpha * slope || -slope < 1e-13 * std::abs(E))) {
+        full_step = alpha == 1.0;
+        if (full_step && mu > 0) {
+          // A shifted step is conservative by design; where the full one was good (near a
+          // saddle, escaping along a direction of negative curvature, the shifted steps are
+          // tiny and grow only slowly from iteration to iteration) go further while the
+          // energy keeps falling.
+          for (int ex = 0; ex < 12; ++ex) {
+            RveState further = st;
+            rve.apply_step(d, 2 * alpha, further);
+            const double Ef = rve.evaluate(s, further, nullptr, nullptr);
+            if (!(std::isfinite(Ef) && Ef < Et + 1e-4 * alpha * slope)) break;
+            alpha *= 2;
+            trial = std::move(further);
+            Et = Ef;
+          }
+        }
         st = std::move(trial);
         accepted = true;
         if (opt.verbose) std::fprintf(stderr, "           step %.3g  slope %.3e  dE %.3e\n", alpha, slope, Et - E);
@@ -125,6 +199,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       // gradient-like steps) and try again before giving up.
       if (++rep.line_search_retries > 8) return finish(SolveStatus::kLineSearchFailed);
       mu = std::max(mu * 100, 1e-3);
+      full_step = false;
       continue;
     }
   }

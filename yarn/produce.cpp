@@ -150,9 +150,27 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     std::fflush(ck);
   }
 
+  // The rest state's sensitivities along each term's axes (the predictor of the first node of
+  // every sector).
+  std::vector<std::vector<Eigen::VectorXd>> rest_sensitivity(opt.terms.size());
+  if (opt.warm_start && opt.predictor)
+    for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+      std::vector<Strain> dirs;
+      for (int i : opt.terms[ti].indices) {
+        const Range r = pattern_range(pattern.name, i, opt.ranges);
+        Strain D = Strain::Zero();
+        D[i] = std::max(-r.lower, r.upper);
+        dirs.push_back(D);
+      }
+      rest_sensitivity[ti] = equilibrium_sensitivity(rve, Strain::Zero(), rest, dirs);
+    }
+
   // Tasks: (term, sector), each an Algorithm 1 plan over its nodes.
   struct Task {
-    std::vector<int> nodes;  // global node ids
+    int term = 0;
+    std::vector<int> nodes;            // global node ids
+    std::vector<Eigen::VectorXd> x;    // their normalized coordinates
+    std::vector<Strain> directions;    // strain per unit normalized coordinate, per term axis
     WarmStartPlan plan;
   };
   std::vector<Task> tasks;
@@ -164,19 +182,26 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       const Range r = pattern_range(pattern.name, i, opt.ranges);
       scale.push_back(std::max(-r.lower, r.upper));
     }
+    std::vector<Strain> directions;
+    for (int d = 0; d < t.dim(); ++d) {
+      Strain D = Strain::Zero();
+      D[t.indices[d]] = scale[d];
+      directions.push_back(D);
+    }
     std::vector<Task> by_sector(K);
-    std::vector<std::vector<Eigen::VectorXd>> normalized(K);
     for (int id : term_nodes_idx[ti]) {
       Eigen::VectorXd x = nodes[id].t;
       for (int d = 0; d < x.size(); ++d) x[d] /= scale[d];
       const int k = sector_of(x, K);
       if (k < 0) continue;  // the origin
       by_sector[k].nodes.push_back(id);
-      normalized[k].push_back(x);
+      by_sector[k].x.push_back(x);
     }
     for (int k = 0; k < K; ++k) {
       if (by_sector[k].nodes.empty()) continue;
-      by_sector[k].plan = algorithm1(normalized[k]);
+      by_sector[k].term = static_cast<int>(ti);
+      by_sector[k].directions = directions;
+      by_sector[k].plan = algorithm1(by_sector[k].x);
       tasks.push_back(std::move(by_sector[k]));
     }
   }
@@ -191,13 +216,39 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int ti = 0; ti < static_cast<int>(tasks.size()); ++ti) {
     const Task& task = tasks[ti];
-    std::map<int, RveState> states;  // local index -> solution, for the children's warm start
+    // Local index -> solution and its sensitivities, for the children's warm start.
+    std::map<int, RveState> states;
+    std::map<int, std::vector<Eigen::VectorXd>> sens;
+    SolveOptions solve_opt = opt.solve;
+    if (opt.warm_start && opt.predictor) solve_opt.sensitivity_directions = task.directions;
+    const Eigen::VectorXd origin = Eigen::VectorXd::Zero(task.x.empty() ? 1 : task.x[0].size());
     for (int li : task.plan.order) {
       Node& n = nodes[task.nodes[li]];
       const int parent = task.plan.parent[li];
       if (n.done) continue;  // resumed: its children start from the rest state (same minimum)
-      RveState st = (opt.warm_start && parent >= 0 && states.count(parent)) ? states[parent] : rest;
-      DensityResult r = energy_density(rve, n.s, st, opt.solve);
+      RveState st = rest;
+      if (opt.warm_start && (parent < 0 || states.count(parent))) {
+        // Eq. 2-3: the parent's solution as it is (see docs/produce.md); then, our addition,
+        // the first-order continuation predictor along the step from the parent to this node,
+        // kept only if it lowers the energy at this node's strain.
+        const std::vector<Eigen::VectorXd>* du = nullptr;
+        if (parent >= 0) {
+          st = states[parent];
+          if (sens.count(parent)) du = &sens[parent];
+        } else if (opt.predictor) {
+          du = &rest_sensitivity[task.term];
+        }
+        if (du && du->size() == task.directions.size()) {
+          const Eigen::VectorXd dx = task.x[li] - (parent >= 0 ? task.x[parent] : origin);
+          Eigen::VectorXd step = Eigen::VectorXd::Zero(rve.num_dofs());
+          for (size_t d = 0; d < du->size(); ++d) step += dx[d] * (*du)[d];
+          RveState pred = st;
+          rve.apply_step(step, 1.0, pred);
+          const double Ep = rve.evaluate(n.s, pred), Em = rve.evaluate(n.s, st);
+          if (std::isfinite(Ep) && Ep < Em) st = std::move(pred);
+        }
+      }
+      DensityResult r = energy_density(rve, n.s, st, solve_opt);
       double secs = r.report.seconds, cpu = r.report.cpu_seconds;
       int iters = r.report.iterations;
       if (!r.report.converged() && !(st.u == rest.u && st.theta == rest.theta)) {
@@ -227,7 +278,10 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       n.seconds = secs;
       n.cpu_seconds = cpu;
       n.done = true;
-      if (r.report.converged() && opt.warm_start) states[li] = std::move(st);
+      if (r.report.converged() && opt.warm_start) {
+        states[li] = std::move(st);
+        if (!r.report.sensitivity.empty()) sens[li] = std::move(r.report.sensitivity);
+      }
       std::lock_guard<std::mutex> lock(mu);
       ++done;
       if (!r.report.converged()) ++failed;

@@ -21,6 +21,7 @@ struct ProduceOptions {
   int threads = 1;                       // sectors solved in parallel
   int sectors = 8;                       // per 2D term (1D terms: 2, one per side)
   bool warm_start = true;                // false: every node from the rest state
+  bool predictor = true;                 // warm starts add the first-order continuation step
   Material material;
   std::map<int, Range> ranges;           // per strain index, overriding the pattern's defaults
   SolveOptions solve;

@@ -143,3 +143,50 @@ TEST(Produce, KilledRunResumesToTheSameDataset) {
   EXPECT_THROW(produce(p, other), yarnhom::FileError);
   std::filesystem::remove(ck);
 }
+
+// The continuation predictor's sensitivity du/dt (newton.hpp) is the derivative of the
+// equilibrium path: a step h along it lands O(h^2) from the equilibrium at t = h (halving h
+// quarters the distance), where the parent's solution as it is (the plain warm start) lands
+// O(h) away. Along a stretch and a
+// curvature direction, from a strained state and from the rest state.
+TEST(Produce, SensitivityIsTheDerivativeOfTheEquilibriumPath) {
+  const RveProblem rve(tiny(), Material{});
+  RveState rest = rve.initial_state();
+  ASSERT_TRUE(solve(rve, Strain::Zero(), rest).converged());
+  auto distance = [&](const RveState& a, const RveState& b) {
+    double d = 0;
+    for (size_t v = 0; v < a.u.size(); ++v) d += (a.u[v] - b.u[v]).squaredNorm();
+    return std::sqrt(d);
+  };
+  Strain base = Strain::Zero();
+  base[0] = 0.1;
+  for (int axis : {2, 5}) {
+    Strain D = Strain::Zero();
+    D[axis] = axis == 5 ? 100.0 : 0.3;  // a box half-width: t is then a normalized coordinate
+    for (bool from_rest : {true, false}) {
+      const Strain s0 = from_rest ? Strain::Zero() : base;
+      RveState st = rest;
+      SolveOptions opt;
+      opt.sensitivity_directions = {D};
+      const SolveReport r0 = solve(rve, s0, st, opt);
+      ASSERT_TRUE(r0.converged());
+      ASSERT_EQ(r0.sensitivity.size(), 1u);
+      const auto direct = equilibrium_sensitivity(rve, s0, st, {D});
+      ASSERT_EQ(direct.size(), 1u);
+      // The factorization of the solve's last iteration and a fresh one agree closely.
+      EXPECT_LT((direct[0] - r0.sensitivity[0]).norm(), 1e-4 * direct[0].norm()) << axis;
+      double previous = 0;
+      for (double h : {0.01, 0.005, 0.0025}) {
+        RveState exact = st;
+        ASSERT_TRUE(solve(rve, s0 + h * D, exact).converged());
+        RveState pred = st;
+        rve.apply_step(direct[0], h, pred);
+        const double plain = distance(st, exact), predicted = distance(pred, exact);
+        EXPECT_LT(predicted, 0.3 * plain) << "axis " << axis << " h " << h << (from_rest ? " from rest" : "");
+        if (previous > 0)
+          EXPECT_LT(predicted, 0.3 * previous) << "axis " << axis << " h " << h << ": second order, halving h quarters the error";
+        previous = predicted;
+      }
+    }
+  }
+}
