@@ -1,11 +1,13 @@
 #include "yarn/newton.hpp"
 
-#include <Eigen/SparseCholesky>
+#include "yarn/hessian_factor.hpp"
+
 #include <time.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 namespace yarnhom::yarn {
@@ -37,19 +39,17 @@ namespace {
 
 // SolveReport::sensitivity: H du/dt = -(dg/ds) D for every direction D, with the last Newton
 // factorization when there is one (else the Hessian at the solution, assembled here).
-template <class Factor>
 void sensitivities(const RveProblem& rve, const Strain& s, const RveState& st, const Eigen::VectorXd& g,
-                   const SolveOptions& opt, Factor* factor, SolveReport& rep) {
-  Factor own;
+                   const SolveOptions& opt, const HessianFactor* factor, SolveReport& rep) {
+  std::unique_ptr<HessianFactor> own;
   if (!factor) {
     std::vector<Eigen::Triplet<double>> trip;
     Eigen::VectorXd g0;
     rve.evaluate(s, st, &g0, &trip);
-    Eigen::SparseMatrix<double> H(rve.num_dofs(), rve.num_dofs());
-    H.setFromTriplets(trip.begin(), trip.end());
-    own.compute(H);
-    if (own.info() != Eigen::Success) return;
-    factor = &own;
+    own = std::make_unique<HessianFactor>(rve.num_dofs());
+    own->assemble(trip);
+    if (!own->factor(0.0)) return;
+    factor = own.get();
   }
   constexpr double h = 1e-7;
   Eigen::VectorXd gp;
@@ -76,7 +76,7 @@ std::vector<Eigen::VectorXd> equilibrium_sensitivity(const RveProblem& rve, cons
   SolveReport rep;
   Eigen::VectorXd g;
   rve.evaluate(s, st, &g);
-  sensitivities(rve, s, st, g, opt, static_cast<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>*>(nullptr), rep);
+  sensitivities(rve, s, st, g, opt, nullptr, rep);
   return rep.sensitivity;
 }
 
@@ -87,9 +87,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
   const int N = rve.num_dofs();
   Eigen::VectorXd g(N), d(N);
   std::vector<Eigen::Triplet<double>> trip;
-  Eigen::SparseMatrix<double> H(N, N);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  std::vector<int> last_outer, last_inner;
+  HessianFactor H(N);
   double mu = 0.0;
   bool factored = false, full_step = false;
   int skip_plain = 0, plain_backoff = 0;
@@ -97,6 +95,7 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     rep.status = status;
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     rep.cpu_seconds = thread_cpu_seconds() - c0;
+    rep.analyses = H.analyses();
     return rep;
   };
   for (int it = 0;; ++it) {
@@ -108,25 +107,12 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     if (!std::isfinite(E) || !std::isfinite(rep.residual)) return finish(SolveStatus::kNonFinite);
     if (opt.verbose) std::fprintf(stderr, "  newton %3d  E %.12g  residual %.3e  mu %.1e\n", it, E, rep.residual, mu);
     if (rep.residual <= opt.tolerance) {
-      if (!opt.sensitivity_directions.empty()) sensitivities(rve, s, st, g, opt, factored ? &ldlt : nullptr, rep);
+      if (!opt.sensitivity_directions.empty()) sensitivities(rve, s, st, g, opt, factored ? &H : nullptr, rep);
       return finish(SolveStatus::kConverged);
     }
     if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);
 
-    H.setFromTriplets(trip.begin(), trip.end());
-    H.makeCompressed();
-    const bool same = last_outer.size() == size_t(N + 1) &&
-                      std::equal(last_outer.begin(), last_outer.end(), H.outerIndexPtr()) &&
-                      last_inner.size() == size_t(H.nonZeros()) &&
-                      std::equal(last_inner.begin(), last_inner.end(), H.innerIndexPtr());
-    if (!same) {
-      ldlt.analyzePattern(H);
-      ++rep.analyses;
-      last_outer.assign(H.outerIndexPtr(), H.outerIndexPtr() + N + 1);
-      last_inner.assign(H.innerIndexPtr(), H.innerIndexPtr() + H.nonZeros());
-    }
-    const Eigen::VectorXd diag = H.diagonal().cwiseAbs().cwiseMax(1e-300);
-    Eigen::SparseMatrix<double> Hs;
+    H.assemble(trip);
     // After a full step try plain Newton first (see newton.hpp), falling back to a tenth of
     // the last shift; otherwise (and after a failed line search, which raised mu) start there.
     // Where plain Newton just failed (an indefinite region) it is tried again only after
@@ -136,16 +122,9 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     if (skip_plain > 0) --skip_plain;
     mu = try_plain ? 0.0 : resume;
     for (int tries = 0;; ++tries) {
-      const Eigen::SparseMatrix<double>* M = &H;
-      if (mu > 0) {
-        Hs = H;
-        for (int i = 0; i < N; ++i) Hs.coeffRef(i, i) += mu * diag[i];
-        M = &Hs;
-      }
-      ldlt.factorize(*M);
-      bool ok = ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all();
+      bool ok = H.factor(mu);
       if (ok) {
-        d = ldlt.solve(-g);
+        d = H.solve(-g);
         ok = d.allFinite() && g.dot(d) < 0;
       }
       if (ok) break;

@@ -1,9 +1,8 @@
 #pragma once
 // Newton's method with a backtracking line search for the RVE equilibrium at a strain s.
 //
-// Each iteration assembles the exact sparse Hessian in the reduced unknowns and factors it
-// with Eigen's SimplicialLDLT, reusing the symbolic analysis while the sparsity pattern stays
-// the same. Definiteness fix: when the factorization fails or has a non-positive pivot (the
+// Each iteration assembles the exact Hessian in the reduced unknowns and factors it by
+// Cholesky (yarn/hessian_factor.hpp: dense up to 3000 unknowns, sparse beyond). Definiteness fix: when the factorization fails or has a non-positive pivot (the
 // Hessian is indefinite away from a minimum), the diagonal is raised to H + mu diag(|H_ii|)
 // with mu growing tenfold until the factorization is positive definite (a Levenberg-style
 // shift, scale-free because it is relative to each dof's own stiffness). After a full step

@@ -1,0 +1,76 @@
+#include "yarn/hessian_factor.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+
+namespace yarnhom::yarn {
+
+struct HessianFactor::Impl {
+  // dense path: the lower triangle of H, and the factor of the shifted matrix
+  Eigen::MatrixXd H;
+  Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt;
+  // sparse path
+  Eigen::SparseMatrix<double> Hs, shifted;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<int> last_outer, last_inner;
+  Eigen::VectorXd diag;  // |H_ii|, floored
+};
+
+HessianFactor::HessianFactor(int n) : n_(n), impl_(std::make_unique<Impl>()) {
+  if (dense()) impl_->H.resize(n, n);
+  else impl_->Hs.resize(n, n);
+}
+
+HessianFactor::~HessianFactor() = default;
+
+void HessianFactor::assemble(const std::vector<Eigen::Triplet<double>>& lower) {
+  Impl& m = *impl_;
+  if (dense()) {
+    m.H.setZero();
+    for (const auto& t : lower) m.H(t.row(), t.col()) += t.value();
+    m.diag = m.H.diagonal().cwiseAbs().cwiseMax(1e-300);
+    return;
+  }
+  m.Hs.setFromTriplets(lower.begin(), lower.end());
+  m.Hs.makeCompressed();
+  const bool same = m.last_outer.size() == size_t(n_ + 1) &&
+                    std::equal(m.last_outer.begin(), m.last_outer.end(), m.Hs.outerIndexPtr()) &&
+                    m.last_inner.size() == size_t(m.Hs.nonZeros()) &&
+                    std::equal(m.last_inner.begin(), m.last_inner.end(), m.Hs.innerIndexPtr());
+  if (!same) {
+    m.ldlt.analyzePattern(m.Hs);
+    ++analyses_;
+    m.last_outer.assign(m.Hs.outerIndexPtr(), m.Hs.outerIndexPtr() + n_ + 1);
+    m.last_inner.assign(m.Hs.innerIndexPtr(), m.Hs.innerIndexPtr() + m.Hs.nonZeros());
+  }
+  m.diag = m.Hs.diagonal().cwiseAbs().cwiseMax(1e-300);
+}
+
+bool HessianFactor::factor(double mu) {
+  Impl& m = *impl_;
+  if (dense()) {
+    if (mu > 0) {
+      Eigen::MatrixXd A = m.H;
+      A.diagonal() += mu * m.diag;
+      m.llt.compute(A);
+    } else {
+      m.llt.compute(m.H);
+    }
+    return m.llt.info() == Eigen::Success;
+  }
+  const Eigen::SparseMatrix<double>* A = &m.Hs;
+  if (mu > 0) {
+    m.shifted = m.Hs;
+    for (int i = 0; i < n_; ++i) m.shifted.coeffRef(i, i) += mu * m.diag[i];
+    A = &m.shifted;
+  }
+  m.ldlt.factorize(*A);
+  return m.ldlt.info() == Eigen::Success && (m.ldlt.vectorD().array() > 0).all();
+}
+
+Eigen::VectorXd HessianFactor::solve(const Eigen::VectorXd& b) const {
+  return dense() ? Eigen::VectorXd(impl_->llt.solve(b)) : Eigen::VectorXd(impl_->ldlt.solve(b));
+}
+
+}  // namespace yarnhom::yarn
