@@ -234,8 +234,12 @@ __global__ void loss_grad_kernel(NetShape s, const float* params, LossCfg cfg, B
 // w of W. Each warp keeps its gradient in registers; at the end the warps write it to their
 // (now free) buffers and the block sums them in warp order into partial[block].
 inline constexpr int kMmaMaxWarps = 16;
+// Threads per block the register allocation is bounded for: 16 warps at d = 1 (<= 128
+// registers), 8 at d = 2, where shared memory (the per-warp buffers) allows no more.
+template <int D>
+inline constexpr int kMmaBoundThreads = D == 1 ? 512 : 256;
 template <int D, int ORDER>
-__global__ void mma_loss_grad_kernel(NetShape s, const float* params, LossCfg cfg, BatchSrc src, float inv_m,
+__global__ void __launch_bounds__(kMmaBoundThreads<D>) mma_loss_grad_kernel(NetShape s, const float* params, LossCfg cfg, BatchSrc src, float inv_m,
                                      float inv_k, float* partial, float* sums, int with_grad) {
   extern __shared__ float4 smem4[];
   __shared__ Sums5 wsum[kMmaMaxWarps];

@@ -89,7 +89,7 @@ struct Tf32x4 {
 // bits to the magnitude, then clear them; a carry moves into the exponent as it should).
 // ptxas emits the PTX conversion as these two plus a compare that keeps NaN payloads intact
 // (seen in the SASS on sm_90); the split below is on the hot path (about 60 splits per point
-// at d = 2), and dropping that compare made the kernel 10-13% faster on the H200.
+// at d = 2).
 __device__ inline uint32_t tf32_rna(float x) { return (__float_as_uint(x) + 0x1000u) & 0xffffe000u; }
 // x = big + small + O(2^-22 |x|), big and small TF32 (round to nearest); x - big is exact.
 __device__ inline void split_tf32(float x, uint32_t& big, uint32_t& small) {
@@ -200,11 +200,25 @@ __device__ inline void mma_layer(const float4* src, float4* dst, const float4* f
       const float4 v = src[(mt * SNT + kt) * 32 + sl];
       a[kt] = split4(v.x, v.z, v.y, v.w);  // a0 = c0, a1 = c2, a2 = c1, a3 = c3
     }
+    // Independent accumulator chains: with only 2 n-tiles (OUT = 16) the k-tiles alternate
+    // between two partial sums, added at the end, so that 4 MMA chains are in flight (a chain
+    // of dependent MMAs waits out the tensor pipe's latency at every step).
+    constexpr int NP = (OUT / 8 >= 4 || IN / 8 < 2) ? 1 : 2;
 #pragma unroll
     for (int nt = 0; nt < OUT / 8; ++nt) {
-      float4 acc = make_float4(0.f, 0.f, 0.f, 0.f);
+      float4 part[NP];
 #pragma unroll
-      for (int kt = 0; kt < IN / 8; ++kt) mma3(acc, a[kt], frag[(kt * (OUT / 8) + nt) * 32 + lane]);
+      for (int q = 0; q < NP; ++q) part[q] = make_float4(0.f, 0.f, 0.f, 0.f);
+#pragma unroll
+      for (int kt = 0; kt < IN / 8; ++kt) mma3(part[kt % NP], a[kt], frag[(kt * (OUT / 8) + nt) * 32 + lane]);
+      float4 acc = part[0];
+#pragma unroll
+      for (int q = 1; q < NP; ++q) {
+        acc.x += part[q].x;
+        acc.y += part[q].y;
+        acc.z += part[q].z;
+        acc.w += part[q].w;
+      }
       if (bias != nullptr && mt == 0) {  // row g of m-tile 0 is channel 0
         acc.x += bias[8 * nt + 2 * t];
         acc.y += bias[8 * nt + 2 * t + 1];
