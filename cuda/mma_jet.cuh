@@ -189,10 +189,11 @@ __device__ inline void zero(MmaGrad<D>& gr) {
 // dst = src W^T (+ bias on channel 0) per m-tile: src has IN/8 neuron tiles (its stride SNT),
 // dst OUT/8 (stride DNT); frag: [IN/8][OUT/8] B fragments. Forward (W^T) and reverse (W) use
 // the same code with their own fragments; the reverse passes bias = nullptr.
-template <int MT, int IN, int OUT, int SNT, int DNT>
+// U: m-tiles unrolled together (more independent MMA chains; more registers).
+template <int MT, int IN, int OUT, int SNT, int DNT, int U = 1>
 __device__ inline void mma_layer(const float4* src, float4* dst, const float4* frag, const float* bias, int lane) {
   const int sl = lslot(lane), t = lane & 3;
-#pragma unroll 1
+#pragma unroll(U)
   for (int mt = 0; mt < MT; ++mt) {
     Tf32x4 a[IN / 8];
 #pragma unroll
@@ -275,6 +276,9 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
                          float4* slot2, float4* buf, bool grad, MmaGrad<D>& gr, Sums5& ls) {
   constexpr int C = jet_channels(D, O), MT = mma_mtiles(D, O);
   constexpr int NT1 = kMmaH1 / 8, NT2 = kMmaH2 / 8, NTB = kMmaH1 / 8;  // slot strides (neuron tiles)
+  // Loops over m-tiles or neuron tiles unrolled by 2 at d = 2 (8 warps per SM, 255 registers
+  // each: independent work per warp hides latency); not at d = 1 (16 warps, 128 registers).
+  constexpr int U = D == 2 ? 2 : 1;
   const int lane = threadIdx.x & 31, g = lane >> 2, t = lane & 3, sl = lslot(lane);
   const bool valid = g < np;
   const float *W0 = W + s.woff[0], *b0 = W + s.boff[0], *W3 = W + s.woff[3];
@@ -331,7 +335,7 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
 
   // The sigmoid jet of a layer's z (slot, NT neuron tiles) into buf.
   auto sigmoid_fwd = [&](const float4* slot, int nts, int snt) {
-#pragma unroll 1
+#pragma unroll(U)
     for (int nt = 0; nt < nts; ++nt) {
       float4 zq[8], aq[8];
 #pragma unroll
@@ -351,9 +355,9 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
   };
 
   // Layer 1 (16 -> 32) and 2 (32 -> 16) on the tensor cores.
-  mma_layer<MT, kMmaH0, kMmaH1, NTB, NT1>(buf, slot1, frag + 0 * 256, W + s.boff[1], lane);
+  mma_layer<MT, kMmaH0, kMmaH1, NTB, NT1, U>(buf, slot1, frag + 0 * 256, W + s.boff[1], lane);
   sigmoid_fwd(slot1, NT1, NT1);
-  mma_layer<MT, kMmaH1, kMmaH2, NTB, NT2>(buf, slot2, frag + 2 * 256, W + s.boff[2], lane);
+  mma_layer<MT, kMmaH1, kMmaH2, NTB, NT2, U>(buf, slot2, frag + 2 * 256, W + s.boff[2], lane);
 
   // Layer 2's sigmoid jet (a2 into buf, for the reverse pass) and the output layer (16 -> 1):
   // the lane's partial sum over its 4 neurons, then over the quad (xor 1, 2; every lane of the
@@ -451,8 +455,8 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
 
   // abar1 = zbar2 W2 into buf; layer 1's sigmoid reversed: zbar1 into slot1 (over z1), the
   // recomputed a1 into buf (over abar1), db1.
-  mma_layer<MT, kMmaH2, kMmaH1, NT2, NTB>(slot2, buf, frag + 3 * 256, nullptr, lane);
-#pragma unroll 1
+  mma_layer<MT, kMmaH2, kMmaH1, NT2, NTB, U>(slot2, buf, frag + 3 * 256, nullptr, lane);
+#pragma unroll(U)
   for (int nt = 0; nt < NT1; ++nt) {
     float4 zq[8], abq[8], aq[8], zbq[8];
 #pragma unroll
@@ -494,7 +498,7 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
 
   // abar0 = zbar1 W1 into buf; layer 0's sigmoid reversed on the recomputed z0: its gradient
   // (dW0[n][i] += zbar0[0] x_i + zbar0[1 + i], db0 += zbar0[0]), and a0 into buf.
-  mma_layer<MT, kMmaH1, kMmaH0, NT1, NTB>(slot1, buf, frag + 1 * 256, nullptr, lane);
+  mma_layer<MT, kMmaH1, kMmaH0, NT1, NTB, U>(slot1, buf, frag + 1 * 256, nullptr, lane);
 #pragma unroll
   for (int nt = 0; nt < kMmaH0 / 8; ++nt) {
     float4 abq[8], aq[8];
