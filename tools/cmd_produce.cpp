@@ -21,6 +21,7 @@ struct ProduceOpts {
   std::string pattern, out, preset = "quick", terms = "all", material, ranges;
   int threads = 0, sectors = 8;
   bool no_warm = false;
+  bool no_predictor = false;
 };
 
 // "index lower upper" per line (# comments): overrides of the sampling boxes.
@@ -58,6 +59,7 @@ void run(const ProduceOpts& o) {
   opt.threads = o.threads > 0 ? o.threads : default_threads();
   opt.sectors = o.sectors;
   opt.warm_start = !o.no_warm;
+  opt.predictor = !o.no_predictor;
   if (!o.material.empty()) opt.material = yarn::read_material(o.material);
   if (!o.ranges.empty()) opt.ranges = read_ranges(o.ranges);
   opt.checkpoint = o.out + ".partial";
@@ -73,7 +75,7 @@ void run(const ProduceOpts& o) {
     if (tty && done == total) std::fprintf(stderr, "\n");
   };
   std::printf("produce %s -> %s (preset %s, %zu terms, %d threads, %s)\n", p.name.c_str(), o.out.c_str(),
-              o.preset.c_str(), opt.terms.size(), opt.threads, opt.warm_start ? "warm start" : "no warm start");
+              o.preset.c_str(), opt.terms.size(), opt.threads, opt.warm_start ? (opt.predictor ? "warm start with predictor" : "warm start, no predictor") : "no warm start");
   yarn::ProduceReport rep;
   const Dataset ds = yarn::produce(p, opt, &rep);
   write_dataset(o.out, ds);
@@ -116,6 +118,9 @@ void register_produce(CLI::App& app) {
   cmd->add_option("--threads", o->threads, "Sectors solved in parallel (default: all cores)");
   cmd->add_option("--sectors", o->sectors, "Sectors per 2D term (default 8)");
   cmd->add_flag("--no-warm-start", o->no_warm, "Solve every node from the rest state (for comparison)");
+  cmd->add_flag("--no-predictor", o->no_predictor,
+                "Warm start from the parent's solution as it is (supplement Eq. 2-3 only), without our "
+                "first-order continuation step along the equilibrium's sensitivity (docs/produce.md)");
   cmd->add_option("--material", o->material, "Material file (docs/yarn_material.md)")->check(CLI::ExistingFile);
   cmd->add_option("--ranges", o->ranges, "Sampling boxes: 'index lower upper' lines")->check(CLI::ExistingFile);
   cmd->callback([o] { run(*o); });
