@@ -4,8 +4,10 @@
 // Same names, argument order and math as their CPU twins (cpu/mlp_jet.hpp, cpu/losses.hpp,
 // cpu/loss_step.hpp, cpu/adam.hpp); the pointers they take are *device* pointers (DeviceVec
 // below allocates and copies). float only. All of them run on the block-level building blocks
-// of cuda/jet_block.cuh, the same code the fused training kernel (cuda/fused.cu) runs, so that
-// testing a twin against its CPU twin tests the trainer's arithmetic.
+// of cuda/jet_block.cuh, the same code the fused training kernel (cuda/cuda_backend.cu) runs, so
+// that testing a twin against its CPU twin tests the trainer's arithmetic; mlp_loss_grad of
+// the paper's Net-3 runs on the tensor-core warp path of cuda/mma_jet.cuh (same math, the
+// hidden-to-hidden products as 3xTF32 MMAs), and is tested on both paths.
 //
 // Errors (no GPU, out of memory, a failed launch) throw yarnhom::cuda::CudaError, whose
 // message names the CUDA call and the CUDA error string.
@@ -108,8 +110,9 @@ void adam_update(float* p, const float* g, float* m, float* v, int n, const cpu:
                  int64_t step);
 
 // Twin of cpu::mlp_loss_grad: the fused forward jets, losses and reverse pass of one batch
-// (device pointers in `batch`), spread over blocks by chunks of points; the gradient and the
-// loss sums are reduced in a fixed order (per block in chunk order, then in block order).
+// (device pointers in `batch`), spread over blocks by chunks of points (the block path) or
+// over warps by tiles of 8 points (the tensor-core path, Net-3); the gradient and the loss
+// sums are reduced in a fixed order (per block in chunk or warp order, then in block order).
 // grad (device) is overwritten when non-null. The stencil L_C is not implemented on the GPU.
 cpu::LossValues mlp_loss_grad(const NetworkDesc& desc, const float* params,
                               const cpu::LossBatch<float>& batch, const cpu::LossOptions& opt,

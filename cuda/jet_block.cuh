@@ -1,8 +1,9 @@
 #pragma once
 // Block-level building blocks of the CUDA backend: one thread block runs the jet forward pass,
 // the losses and the reverse pass of a *chunk* of points entirely in shared memory. Every CUDA
-// entry point (the twins in cuda/api.cu, the fused epoch kernel in cuda/fused.cu) is made of
-// these functions.
+// entry point (the twins in cuda/api.cu, the fused epoch kernel in cuda/cuda_backend.cu) is
+// made of these functions, except mlp_loss_grad of Net-3, which runs on the tensor-core warp
+// path of cuda/mma_jet.cuh (it shares the per-point sigmoid jets and losses below).
 //
 // The math is the CPU's (cpu/mlp_jet.hpp, cpu/sigmoid_jet.hpp, cpu/losses.cpp); so is the
 // layout of a jet inside a chunk of np points: a layer's jet is [n, S] with channel c of point
