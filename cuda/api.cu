@@ -472,21 +472,23 @@ bool use_block_path() {
 
 // The warp path's launch: as many warps per block as shared memory (the per-warp buffers) and
 // registers allow, up to 16, and as many blocks as fit on the GPU at once (at most one warp
-// per tile).
+// per tile). Returns false, launching nothing, where not even one warp fits (a GPU with less
+// shared memory per block): the block path runs instead.
 template <int D, int O>
-void launch_mma_loss_grad(const NetShape& s, const float* params, const LossCfg& cfg, const BatchSrc& src,
+bool launch_mma_loss_grad(const NetShape& s, const float* params, const LossCfg& cfg, const BatchSrc& src,
                           float inv_m, float inv_k, float* grad, JetWorkspace& ws, int* blocks_out) {
   auto kernel = mma_loss_grad_kernel<D, O>;
   constexpr int WF = mma_warp_floats(D, O);
-  if (s.P > WF) throw std::logic_error("mma_loss_grad_kernel: the gradient does not fit a warp's buffer");
+  if (s.P > WF) return false;  // the warps' buffers hold the gradient at the end
   const int P4 = (s.P + 3) & ~3;
   const size_t fixed = size_t(P4 + kMmaFragFloats) * sizeof(float), per_warp = size_t(WF) * sizeof(float);
   cudaFuncAttributes attr{};
   check(cudaFuncGetAttributes(&attr, kernel), "cudaFuncGetAttributes");
+  const long long avail = (long long)smem_optin() - (long long)attr.sharedSizeBytes - (long long)fixed;
   int nw = std::min<int>(kMmaMaxWarps, attr.maxThreadsPerBlock / 32);
-  nw = std::min<int>(nw, int((size_t(smem_optin()) - attr.sharedSizeBytes - fixed) / per_warp));
+  nw = std::min<long long>(nw, avail > 0 ? avail / (long long)per_warp : 0);
+  if (nw < 1) return false;
   if (g_shape.threads > 0) nw = std::max(1, std::min(nw, g_shape.threads / 32));
-  if (nw < 1) throw std::invalid_argument("the tensor-core path does not fit this GPU's shared memory");
   const size_t smem = fixed + nw * per_warp;
   allow_smem(kernel, smem);
   int per_sm = 0;
@@ -505,16 +507,16 @@ void launch_mma_loss_grad(const NetShape& s, const float* params, const LossCfg&
     check(cudaGetLastError(), "launch of the gradient reduction kernel");
   }
   *blocks_out = blocks;
+  return true;
 }
 
 template <int D, int O>
 struct LossSel {
   static void run(const NetShape& s, const float* params, const LossCfg& cfg, const BatchSrc& src, float inv_m,
                   float inv_k, float* grad, JetWorkspace& ws, int* blocks_out) {
-    if (mma_path_fits(s) && !use_block_path()) {
-      launch_mma_loss_grad<D, O>(s, params, cfg, src, inv_m, inv_k, grad, ws, blocks_out);
+    if (mma_path_fits(s) && !use_block_path() &&
+        launch_mma_loss_grad<D, O>(s, params, cfg, src, inv_m, inv_k, grad, ws, blocks_out))
       return;
-    }
     Launch l = pick_launch(s, 1, grad != nullptr);
     const TaskPlan tp = plan_tasks<D, O>(l.S, src.m, src.k);
     l = pick_launch(s, std::max(1, tp.tasks()), grad != nullptr);
