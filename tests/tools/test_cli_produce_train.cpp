@@ -57,7 +57,9 @@ TEST(ProduceThenTrainAll, QuickPresetTrainsAndEvery1DNetworkLearns) {
     const auto& v = n.history.val_loss;
     ASSERT_EQ(v.size(), 500u) << n.term.name;
     for (double x : v) ASSERT_TRUE(std::isfinite(x)) << n.term.name;
-    if (n.term.dim() == 1) EXPECT_LT(v.back(), 0.1 * v.front()) << n.term.name;
+    if (n.term.dim() == 1) {
+      EXPECT_LT(v.back(), 0.1 * v.front()) << n.term.name;
+    }
   }
   fs::remove_all(d);
 }

@@ -183,8 +183,9 @@ TEST(Produce, SensitivityIsTheDerivativeOfTheEquilibriumPath) {
         rve.apply_step(direct[0], h, pred);
         const double plain = distance(st, exact), predicted = distance(pred, exact);
         EXPECT_LT(predicted, 0.3 * plain) << "axis " << axis << " h " << h << (from_rest ? " from rest" : "");
-        if (previous > 0)
+        if (previous > 0) {
           EXPECT_LT(predicted, 0.3 * previous) << "axis " << axis << " h " << h << ": second order, halving h quarters the error";
+        }
         previous = predicted;
       }
     }
