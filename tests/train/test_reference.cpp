@@ -90,7 +90,9 @@ TEST_P(Reference, LossesAndGradientsMatchPyTorch) {
   for (auto [name, mine] : terms) {
     const double ref = f.attr_double(name);
     EXPECT_NEAR(mine, ref, 1e-5 * std::abs(ref) + 1e-300) << name;
-    if (std::string(name) != "x" && std::string(name) != "s") EXPECT_GT(ref, 0) << name << " must be active";
+    if (std::string(name) != "x" && std::string(name) != "s") {
+      EXPECT_GT(ref, 0) << name << " must be active";
+    }
   }
   EXPECT_LT(rel(grad, f.read_double("grad").data), 1e-5);
   fs::remove_all(dir);

@@ -132,7 +132,9 @@ TEST(Rve, EnergyInvariantUnderRigidMotionOfTheWholeRve) {
   for (const Strain& s : {strain(0.1, 0.3, -0.1, 0, 0, 0), strain(0.2, -0.2, 0.3, 80, -50, 30)}) {
     RveState a = rve.initial_state();
     const double E = rve.evaluate(s, a);
-    if (s.tail<3>().isZero()) EXPECT_NEAR(rve_t.evaluate(s, rve_t.initial_state()), E, 1e-12 * E);
+    if (s.tail<3>().isZero()) {
+      EXPECT_NEAR(rve_t.evaluate(s, rve_t.initial_state()), E, 1e-12 * E);
+    }
     const Strain sr = strain(s[2], -s[1], s[0], s[5], -s[4], s[3]);
     RveState b = rve_r.initial_state();
     const DensityResult ra = energy_density(rve, s, a), rb = energy_density(rve_r, sr, b);
@@ -191,7 +193,9 @@ TEST(Rve, TwoByOneTilingGivesTheSamePsi) {
     // wide sees slightly different strains: a looser bound.
     const double tol = s.tail<3>().isZero() ? 1e-8 : 2e-2;
     EXPECT_NEAR(rb.psi, ra.psi, tol * ra.psi) << s.transpose();
-    if (s.tail<3>().isZero()) EXPECT_LT((rb.grad - ra.grad).norm(), 1e-6 * ra.grad.norm());
+    if (s.tail<3>().isZero()) {
+      EXPECT_LT((rb.grad - ra.grad).norm(), 1e-6 * ra.grad.norm());
+    }
   }
 }
 
