@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <vector>
 
 namespace yarnhom::yarn {
@@ -37,26 +36,17 @@ double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad) {
 
 namespace {
 
-// SolveReport::sensitivity: H du/dt = -(dg/ds) D for every direction D, with the last Newton
-// factorization when there is one (else the Hessian at the solution, assembled here).
+// SolveReport::sensitivity: H du/dt = -(dg/ds) D for every direction D, with a factorization
+// of the Hessian at (or, from the last Newton iteration, next to) the solution; g the
+// gradient there.
 void sensitivities(const RveProblem& rve, const Strain& s, const RveState& st, const Eigen::VectorXd& g,
-                   const SolveOptions& opt, const HessianFactor* factor, SolveReport& rep) {
-  std::unique_ptr<HessianFactor> own;
-  if (!factor) {
-    std::vector<Eigen::Triplet<double>> trip;
-    Eigen::VectorXd g0;
-    rve.evaluate(s, st, &g0, &trip);
-    own = std::make_unique<HessianFactor>(rve.num_dofs());
-    own->assemble(trip);
-    if (!own->factor(0.0)) return;
-    factor = own.get();
-  }
+                   const std::vector<Strain>& directions, const HessianFactor& factor, SolveReport& rep) {
   constexpr double h = 1e-7;
   Eigen::VectorXd gp;
   rep.sensitivity.clear();
-  for (const Strain& D : opt.sensitivity_directions) {
+  for (const Strain& D : directions) {
     rve.evaluate(s + h * D, st, &gp);
-    Eigen::VectorXd du = factor->solve(-(gp - g) / h);
+    Eigen::VectorXd du = factor.solve(-(gp - g) / h);
     if (!du.allFinite()) du.setZero();
     rep.sensitivity.push_back(std::move(du));
   }
@@ -71,12 +61,13 @@ double thread_cpu_seconds() {
 
 std::vector<Eigen::VectorXd> equilibrium_sensitivity(const RveProblem& rve, const Strain& s, const RveState& st,
                                                      const std::vector<Strain>& directions) {
-  SolveOptions opt;
-  opt.sensitivity_directions = directions;
-  SolveReport rep;
+  std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd g;
-  rve.evaluate(s, st, &g);
-  sensitivities(rve, s, st, g, opt, nullptr, rep);
+  rve.evaluate(s, st, &g, &trip);
+  HessianFactor H(rve.num_dofs());
+  H.assemble(trip);
+  SolveReport rep;
+  if (H.factor(0.0)) sensitivities(rve, s, st, g, directions, H, rep);
   return rep.sensitivity;
 }
 
@@ -107,7 +98,15 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
     if (!std::isfinite(E) || !std::isfinite(rep.residual)) return finish(SolveStatus::kNonFinite);
     if (opt.verbose) std::fprintf(stderr, "  newton %3d  E %.12g  residual %.3e  mu %.1e\n", it, E, rep.residual, mu);
     if (rep.residual <= opt.tolerance) {
-      if (!opt.sensitivity_directions.empty()) sensitivities(rve, s, st, g, opt, factored ? &H : nullptr, rep);
+      if (!opt.sensitivity_directions.empty()) {
+        // Converged before any factorization (a start at the solution): factor here, from the
+        // Hessian this iteration's evaluation already assembled.
+        if (!factored) {
+          H.assemble(trip);
+          factored = H.factor(0.0);
+        }
+        if (factored) sensitivities(rve, s, st, g, opt.sensitivity_directions, H, rep);
+      }
       return finish(SolveStatus::kConverged);
     }
     if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);

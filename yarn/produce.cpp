@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -150,20 +151,18 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     std::fflush(ck);
   }
 
-  // The rest state's sensitivities along each term's axes (the predictor of the first node of
-  // every sector).
-  std::vector<std::vector<Eigen::VectorXd>> rest_sensitivity(opt.terms.size());
-  if (opt.warm_start && opt.predictor)
-    for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
-      std::vector<Strain> dirs;
-      for (int i : opt.terms[ti].indices) {
-        const Range r = pattern_range(pattern.name, i, opt.ranges);
-        Strain D = Strain::Zero();
-        D[i] = std::max(-r.lower, r.upper);
-        dirs.push_back(D);
-      }
-      rest_sensitivity[ti] = equilibrium_sensitivity(rve, Strain::Zero(), rest, dirs);
-    }
+  // Per strain axis: the normalization of term coordinates (the box's larger half-width) and
+  // the strain per unit normalized coordinate; at rest, the equilibrium's sensitivity along
+  // each (one factorization for all terms: the predictor of every sector's first node).
+  std::array<double, 6> scale;
+  std::vector<Strain> axis_direction(6, Strain::Zero());
+  for (int i = 0; i < 6; ++i) {
+    const Range r = pattern_range(pattern.name, i, opt.ranges);
+    scale[i] = std::max(-r.lower, r.upper);
+    axis_direction[i][i] = scale[i];
+  }
+  std::vector<Eigen::VectorXd> rest_sensitivity;
+  if (opt.warm_start && opt.predictor) rest_sensitivity = equilibrium_sensitivity(rve, Strain::Zero(), rest, axis_direction);
 
   // Tasks: (term, sector), each an Algorithm 1 plan over its nodes.
   struct Task {
@@ -177,21 +176,12 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
     const Term& t = opt.terms[ti];
     const int K = t.dim() == 1 ? 2 : std::max(1, opt.sectors);
-    std::vector<double> scale;
-    for (int i : t.indices) {
-      const Range r = pattern_range(pattern.name, i, opt.ranges);
-      scale.push_back(std::max(-r.lower, r.upper));
-    }
     std::vector<Strain> directions;
-    for (int d = 0; d < t.dim(); ++d) {
-      Strain D = Strain::Zero();
-      D[t.indices[d]] = scale[d];
-      directions.push_back(D);
-    }
+    for (int i : t.indices) directions.push_back(axis_direction[i]);
     std::vector<Task> by_sector(K);
     for (int id : term_nodes_idx[ti]) {
       Eigen::VectorXd x = nodes[id].t;
-      for (int d = 0; d < x.size(); ++d) x[d] /= scale[d];
+      for (int d = 0; d < x.size(); ++d) x[d] /= scale[t.indices[d]];
       const int k = sector_of(x, K);
       if (k < 0) continue;  // the origin
       by_sector[k].nodes.push_back(id);
@@ -221,7 +211,6 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     std::map<int, std::vector<Eigen::VectorXd>> sens;
     SolveOptions solve_opt = opt.solve;
     if (opt.warm_start && opt.predictor) solve_opt.sensitivity_directions = task.directions;
-    const Eigen::VectorXd origin = Eigen::VectorXd::Zero(task.x.empty() ? 1 : task.x[0].size());
     for (int li : task.plan.order) {
       Node& n = nodes[task.nodes[li]];
       const int parent = task.plan.parent[li];
@@ -231,17 +220,18 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         // Eq. 2-3: the parent's solution as it is (see docs/produce.md); then, our addition,
         // the first-order continuation predictor along the step from the parent to this node,
         // kept only if it lowers the energy at this node's strain.
-        const std::vector<Eigen::VectorXd>* du = nullptr;
+        std::vector<const Eigen::VectorXd*> du;  // per term axis
         if (parent >= 0) {
           st = states[parent];
-          if (sens.count(parent)) du = &sens[parent];
-        } else if (opt.predictor) {
-          du = &rest_sensitivity[task.term];
+          if (sens.count(parent))
+            for (const auto& v : sens[parent]) du.push_back(&v);
+        } else if (rest_sensitivity.size() == 6) {
+          for (int i : opt.terms[task.term].indices) du.push_back(&rest_sensitivity[i]);
         }
-        if (du && du->size() == task.directions.size()) {
-          const Eigen::VectorXd dx = task.x[li] - (parent >= 0 ? task.x[parent] : origin);
+        if (du.size() == task.directions.size()) {
+          const Eigen::VectorXd dx = parent >= 0 ? Eigen::VectorXd(task.x[li] - task.x[parent]) : task.x[li];
           Eigen::VectorXd step = Eigen::VectorXd::Zero(rve.num_dofs());
-          for (size_t d = 0; d < du->size(); ++d) step += dx[d] * (*du)[d];
+          for (size_t d = 0; d < du.size(); ++d) step += dx[d] * *du[d];
           RveState pred = st;
           rve.apply_step(step, 1.0, pred);
           const double Ep = rve.evaluate(n.s, pred), Em = rve.evaluate(n.s, st);
