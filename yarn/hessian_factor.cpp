@@ -17,7 +17,7 @@ struct HessianFactor::Impl {
   Eigen::VectorXd diag;  // |H_ii|, floored
 };
 
-HessianFactor::HessianFactor(int n) : n_(n), impl_(std::make_unique<Impl>()) {
+HessianFactor::HessianFactor(int n, int dense_limit) : n_(n), dense_(n <= dense_limit), impl_(std::make_unique<Impl>()) {
   if (dense()) impl_->H.resize(n, n);
   else impl_->Hs.resize(n, n);
 }

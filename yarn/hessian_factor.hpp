@@ -19,13 +19,14 @@ class HessianFactor {
  public:
   static constexpr int kDenseLimit = 3000;
 
-  explicit HessianFactor(int n);
+  // dense_limit: the largest n factored densely (tests force the sparse path with 0).
+  explicit HessianFactor(int n, int dense_limit = kDenseLimit);
   ~HessianFactor();
   HessianFactor(const HessianFactor&) = delete;
   HessianFactor& operator=(const HessianFactor&) = delete;
 
   int size() const { return n_; }
-  bool dense() const { return n_ <= kDenseLimit; }
+  bool dense() const { return dense_; }
 
   // H from lower-triangle triplets (row >= col; duplicates summed).
   void assemble(const std::vector<Eigen::Triplet<double>>& lower);
@@ -40,6 +41,7 @@ class HessianFactor {
  private:
   struct Impl;
   int n_;
+  bool dense_;
   int analyses_ = 0;
   std::unique_ptr<Impl> impl_;
 };

@@ -191,3 +191,25 @@ TEST(Produce, SensitivityIsTheDerivativeOfTheEquilibriumPath) {
     }
   }
 }
+
+// --no-predictor: warm starts from the parent's solution as it is reach the same equilibria as
+// warm starts with the continuation predictor, within moderate strains (far corners of the
+// spec's box have several wells, see WarmAndColdStartsReachTheSameEquilibria: there a start
+// 0.6 in s_y away, with or without the predictor, may settle in another one).
+TEST(Produce, PredictorDoesNotChangeTheEquilibria) {
+  ProduceOptions opt;
+  opt.preset = "tiny";
+  opt.terms = parse_term_list("0,02,25");
+  opt.solve.tolerance = 1e-12;
+  opt.ranges = {{0, {-0.1, 0.5}}, {2, {-0.1, 0.5}}};
+  const Pattern p = tiny();
+  const Dataset with = produce(p, opt);
+  opt.predictor = false;
+  const Dataset without = produce(p, opt);
+  ASSERT_EQ(with.terms.size(), without.terms.size());
+  for (size_t t = 0; t < with.terms.size(); ++t) {
+    ASSERT_EQ(with.terms[t].n, without.terms[t].n);
+    for (int i = 0; i < with.terms[t].n; ++i)
+      EXPECT_NEAR(with.terms[t].raw[i], without.terms[t].raw[i], 1e-6 * with.psi0) << with.terms[t].term.name << " " << i;
+  }
+}
