@@ -1,0 +1,50 @@
+#include "sim/inplane_strain.hpp"
+
+#include <cmath>
+
+namespace yarnhom::sim {
+
+Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
+                               const Eigen::Matrix2d& B, Eigen::Matrix<double, 3, 9>* J,
+                               const Eigen::Vector3d* lambda, Mat9* H) {
+  // c(a, v): coefficient of vertex v in f_a.
+  double c[2][3];
+  for (int a = 0; a < 2; ++a) {
+    c[a][1] = B(0, a);
+    c[a][2] = B(1, a);
+    c[a][0] = -(B(0, a) + B(1, a));
+  }
+  const Eigen::Vector3d d1 = x1 - x0, d2 = x2 - x0;
+  const Eigen::Vector3d f1 = d1 * B(0, 0) + d2 * B(1, 0), f2 = d1 * B(0, 1) + d2 * B(1, 1);
+  const double a = f1.norm(), b = f2.norm();
+  const Eigen::Vector3d u = f1 / a, w = f2 / b;
+  const double cs = u.dot(w);
+  const Eigen::Vector3d s(a - 1.0, cs, b - 1.0);
+  if (!J && !H) return s;
+  // Gradient in f = (f1, f2): rows s_x, s_a, s_y.
+  const Eigen::Vector3d g1 = (w - cs * u) / a, g2 = (u - cs * w) / b;
+  Eigen::Matrix<double, 3, 6> G = Eigen::Matrix<double, 3, 6>::Zero();
+  G.block<1, 3>(0, 0) = u.transpose();
+  G.block<1, 3>(1, 0) = g1.transpose();
+  G.block<1, 3>(1, 3) = g2.transpose();
+  G.block<1, 3>(2, 3) = w.transpose();
+  if (J)
+    for (int v = 0; v < 3; ++v)
+      J->block<3, 3>(0, 3 * v) = c[0][v] * G.block<3, 3>(0, 0) + c[1][v] * G.block<3, 3>(0, 3);
+  if (H && lambda) {
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d Pu = I - u * u.transpose(), Pw = I - w * w.transpose();
+    const double lx = (*lambda)[0], la = (*lambda)[1], ly = (*lambda)[2];
+    // Contracted Hessian in f, blocks [f1 f1, f1 f2; f2 f1, f2 f2].
+    Eigen::Matrix3d H11 = lx * Pu / a + la * (-(u * g1.transpose() + g1 * u.transpose()) / a - cs * Pu / (a * a));
+    Eigen::Matrix3d H22 = ly * Pw / b + la * (-(w * g2.transpose() + g2 * w.transpose()) / b - cs * Pw / (b * b));
+    Eigen::Matrix3d H12 = la * (Pw / b - u * g2.transpose()) / a;
+    for (int v = 0; v < 3; ++v)
+      for (int q = 0; q < 3; ++q)
+        H->block<3, 3>(3 * v, 3 * q) = c[0][v] * c[0][q] * H11 + c[1][v] * c[1][q] * H22 +
+                                       c[0][v] * c[1][q] * H12 + c[1][v] * c[0][q] * H12.transpose();
+  }
+  return s;
+}
+
+}  // namespace yarnhom::sim
