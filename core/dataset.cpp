@@ -27,6 +27,17 @@ void check_finite(const std::vector<double>& v, const std::string& file, const s
 void validate_dataset(const Dataset& ds, const std::string& file) {
   if (ds.terms.empty()) throw FileError(file, "/terms", "no terms");
   if (!std::isfinite(ds.psi0)) throw FileError(file, "/rest", "psi0 is not finite");
+  auto optional_attr = [&](const std::vector<double>& v, size_t n, const char* name) {
+    if (v.empty()) return;
+    if (v.size() != n)
+      throw FileError(file, "/rest", std::string("attribute ") + name + " must have " + std::to_string(n) + " entries");
+    check_finite(v, file, std::string("/rest ") + name);
+  };
+  optional_attr(ds.lattice_original, 4, "lattice_original");
+  optional_attr(ds.lattice_relaxed, 4, "lattice_relaxed");
+  optional_attr(ds.grad0, 6, "grad0");
+  if (!std::isnan(ds.areal_density) && !(ds.areal_density > 0 && std::isfinite(ds.areal_density)))
+    throw FileError(file, "/", "areal_density must be positive and finite (absent when unknown)");
   for (const TermData& t : ds.terms) {
     const std::string g = "/terms/" + t.term.name;
     const size_t d = t.dim();
@@ -64,8 +75,12 @@ Dataset read_dataset(const std::string& path) {
   ds.pattern = root.has_attr("pattern") ? root.attr_string("pattern") : "";
   ds.source = root.has_attr("source") ? root.attr_string("source") : "";
   ds.note = root.has_attr("note") ? root.attr_string("note") : "";
+  if (root.has_attr("areal_density")) ds.areal_density = root.attr_double("areal_density");
   h5::Node rest = root.group("rest");
   ds.psi0 = rest.attr_double("psi0");
+  if (rest.has_attr("lattice_original")) ds.lattice_original = rest.attr_doubles("lattice_original");
+  if (rest.has_attr("lattice_relaxed")) ds.lattice_relaxed = rest.attr_doubles("lattice_relaxed");
+  if (rest.has_attr("grad0")) ds.grad0 = rest.attr_doubles("grad0");
   if (rest.has("q")) ds.rest_q = rest.read_double("q").data;
   h5::Node terms = root.group("terms");
   for (const std::string& name : terms.children()) {
@@ -123,8 +138,12 @@ void write_dataset(const std::string& path, const Dataset& ds) {
     root.set_attr("units", "SI");
     root.set_attr("source", ds.source);
     if (!ds.note.empty()) root.set_attr("note", ds.note);
+    if (!std::isnan(ds.areal_density)) root.set_attr("areal_density", ds.areal_density);
     h5::Node rest = root.create_group("rest");
     rest.set_attr("psi0", ds.psi0);
+    if (!ds.lattice_original.empty()) rest.set_attr("lattice_original", ds.lattice_original);
+    if (!ds.lattice_relaxed.empty()) rest.set_attr("lattice_relaxed", ds.lattice_relaxed);
+    if (!ds.grad0.empty()) rest.set_attr("grad0", ds.grad0);
     rest.write("q", ds.rest_q, {ds.rest_q.size()});
     h5::Node terms = root.create_group("terms");
     for (const TermData& t : ds.terms) {

@@ -1,13 +1,17 @@
 #pragma once
 // The dataset file (spec section 5): what `produce` (or `synth`) writes and `train-all` reads.
 //
-//   /                      attrs: format="yarnhom-dataset", version=1, pattern, units="SI", source
-//   /rest                  attrs: psi0 (J/m^2); datasets: q (rest solution)
+//   /                      attrs: format="yarnhom-dataset", version=1, pattern, units="SI", source,
+//                                 [areal_density (kg/m^2 of the reference tile)]
+//   /rest                  attrs: psi0 (J/m^2), [lattice_original[4], lattice_relaxed[4]
+//                                 (m; rows: the tile's two lattice vectors), grad0[6] (dPsi/ds
+//                                 at s = 0)]; datasets: q (rest solution)
 //   /terms/<name>/strain   float64 [N, d]
 //   /terms/<name>/energy   float64 [N]
 //   /terms/<name>/gradient float64 [N, d]
 //   /terms/<name>/raw      float64 [N]
 //   /terms/<name>          attrs: indices (int[d]), lower (float[d]), upper (float[d])
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -33,6 +37,13 @@ struct Dataset {
   double psi0 = 0.0;          // Psi(0) after relaxation, J/m^2
   std::vector<double> rest_q; // rest solution (may be empty for synthetic data)
   std::vector<TermData> terms;
+  // Optional, written since the stress-free rest (docs/produce.md "Dataset file"); files
+  // without them still read, the fields then stay empty / NaN (unknown).
+  std::vector<double> lattice_original;  // [2, 2] row-major: the pattern tile's lattice vectors
+  std::vector<double> lattice_relaxed;   // [2, 2]: the reference tile's (s = 0 is measured there)
+  std::vector<double> grad0;             // [6] dPsi/ds at s = 0: ~0 in-plane (stress-free rest),
+                                         // the natural bending moment dPsi/dII (J/m)
+  double areal_density = NAN;            // kg/m^2 of the reference tile; NaN: unknown
 
   const TermData* find(const std::string& name) const;
 };

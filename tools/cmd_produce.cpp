@@ -22,6 +22,7 @@ struct ProduceOpts {
   int threads = 0, sectors = 8;
   bool no_warm = false;
   bool no_predictor = false;
+  bool fixed_period = false;
 };
 
 // "index lower upper" per line (# comments): overrides of the sampling boxes.
@@ -60,6 +61,7 @@ void run(const ProduceOpts& o) {
   opt.sectors = o.sectors;
   opt.warm_start = !o.no_warm;
   opt.predictor = !o.no_predictor;
+  opt.free_period = !o.fixed_period;
   if (!o.material.empty()) opt.material = yarn::read_material(o.material);
   if (!o.ranges.empty()) opt.ranges = read_ranges(o.ranges);
   opt.checkpoint = o.out + ".partial";
@@ -80,6 +82,11 @@ void run(const ProduceOpts& o) {
   const Dataset ds = yarn::produce(p, opt, &rep);
   write_dataset(o.out, ds);
   std::printf("rest        %s, Psi0 %.10g J/m^2\n", rep.rest.summary().c_str(), ds.psi0);
+  std::printf("period      pattern %.6g x %.6g m; reference (%.6g, %.6g) (%.6g, %.6g) m; areal density %.6g kg/m^2\n",
+              ds.lattice_original[0], ds.lattice_original[3], ds.lattice_relaxed[0], ds.lattice_relaxed[1],
+              ds.lattice_relaxed[2], ds.lattice_relaxed[3], ds.areal_density);
+  std::printf("at rest     dPsi/ds %.3g %.3g %.3g (in-plane), dPsi/dII %.6g %.6g %.6g J/m (natural bending moment)\n",
+              ds.grad0[0], ds.grad0[1], ds.grad0[2], ds.grad0[3], ds.grad0[4], ds.grad0[5]);
   if (rep.resumed) std::printf("resumed     %d samples from %s\n", rep.resumed, opt.checkpoint.c_str());
   std::printf("%-5s %6s %7s %10s %9s %9s\n", "term", "nodes", "failed", "mean iter", "solve s", "cpu s");
   for (const auto& t : rep.terms)
@@ -121,6 +128,9 @@ void register_produce(CLI::App& app) {
   cmd->add_flag("--no-predictor", o->no_predictor,
                 "Warm start from the parent's solution as it is (supplement Eq. 2-3 only), without our "
                 "first-order continuation step along the equilibrium's sensitivity (docs/produce.md)");
+  cmd->add_flag("--fixed-period", o->fixed_period,
+                "Keep the pattern's own tile period at s = 0 (a pre-stressed rest, as before the stress-free "
+                "rest; for comparison). Default: the period relaxes and s = 0 is the stress-free tile");
   cmd->add_option("--material", o->material, "Material file (docs/yarn_material.md)")->check(CLI::ExistingFile);
   cmd->add_option("--ranges", o->ranges, "Sampling boxes: 'index lower upper' lines")->check(CLI::ExistingFile);
   cmd->callback([o] { run(*o); });

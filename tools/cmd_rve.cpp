@@ -11,6 +11,7 @@
 #include "yarn/energy_density.hpp"
 #include "yarn/generate.hpp"
 #include "yarn/relax.hpp"
+#include "yarn/rest.hpp"
 #include "yarn/state_io.hpp"
 
 namespace yarnhom::tools {
@@ -18,7 +19,7 @@ namespace {
 
 struct RveOpts {
   std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out;
-  bool json = false, verbose = false;
+  bool json = false, verbose = false, fixed_period = false;
   double tolerance = 1e-10;
   int max_iterations = 200;
 };
@@ -47,46 +48,82 @@ void run(const RveOpts& o) {
   if (!(s[0] > -1 && s[2] > -1 && std::abs(s[1]) < 1))
     throw std::invalid_argument("--strain: need s_x > -1, s_y > -1 and |s_a| < 1");
   const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::read_material(o.material);
-  const yarn::RveProblem rve(load_pattern(o.pattern), mat);
+  const yarn::Pattern pattern = load_pattern(o.pattern);
   yarn::SolveOptions opt;
   opt.tolerance = o.tolerance;
   opt.max_iterations = o.max_iterations;
   opt.verbose = o.verbose;
 
-  // Start: a given state, else the pattern relaxed at rest (the paper's patterns store rest
-  // lengths, curvatures and twists that differ from their geometry: never measure unrelaxed).
-  yarn::RveState st = rve.initial_state();
-  yarn::SolveReport rest;
+  // The reference: the pattern relaxed at rest, its period included (s = 0 is then the
+  // stress-free tile; docs/rve.md section 6), or the reference a given state was solved in.
+  std::unique_ptr<yarn::RveProblem> rve;
+  yarn::RveState st;
+  yarn::RestReport rest;
   bool relaxed = false;
   if (!o.start.empty()) {
     if (!o.pattern_out.empty()) throw std::invalid_argument("--pattern-out needs the rest relaxation: drop --start");
-    st = yarn::read_state(o.start, rve);
+    rve = std::make_unique<yarn::RveProblem>(pattern, mat, yarn::RveOptions{}, yarn::read_state_reference(o.start));
+    st = yarn::read_state(o.start, *rve);
   } else {
-    yarn::SolveOptions rest_opt = opt;
-    rest_opt.max_iterations = std::max(opt.max_iterations, 200);  // --max-iterations is for the strain
-    rest = yarn::solve(rve, yarn::Strain::Zero(), st, rest_opt);
+    yarn::RestOptions ro;
+    ro.free_period = !o.fixed_period;
+    ro.solve = opt;
+    ro.solve.max_iterations = std::max(opt.max_iterations, 200);  // --max-iterations is for the strain
+    ro.verbose = o.verbose;
+    yarn::RestTile tile = yarn::relax_tile(pattern, mat, ro);
+    rve = std::make_unique<yarn::RveProblem>(std::move(tile.rve));
+    st = std::move(tile.state);
+    rest = tile.report;
     relaxed = true;
-    if (!rest.converged()) throw std::runtime_error("relaxing '" + rve.pattern().name + "' at rest: " + rest.summary());
-    if (!o.pattern_out.empty()) yarn::write_pyp(o.pattern_out, yarn::pattern_at(rve, st));
+    if (!o.pattern_out.empty()) {
+      if (rve->reference()(0, 1) != 0.0)
+        throw std::invalid_argument("--pattern-out: the relaxed tile of '" + pattern.name +
+                                    "' is sheared (s_a = " + std::to_string(rest.strain[1]) +
+                                    "), which a .pyp tile (px x py) cannot hold; add --fixed-period");
+      yarn::write_pyp(o.pattern_out, yarn::pattern_at(*rve, st));
+    }
   }
-  const yarn::DensityResult r = yarn::energy_density(rve, s, st, opt);
-  if (!o.out.empty()) yarn::write_state(o.out, rve, s, st, r);
-  if (!o.obj.empty()) yarn::write_obj(o.obj, rve, s, st);
+  const yarn::DensityResult at_rest = yarn::evaluate_density(*rve, yarn::Strain::Zero(), st);
+  const yarn::DensityResult r = yarn::energy_density(*rve, s, st, opt);
+  if (!o.out.empty()) yarn::write_state(o.out, *rve, s, st, r);
+  if (!o.obj.empty()) yarn::write_obj(o.obj, *rve, s, st);
+  const Eigen::Matrix2d L0 = Eigen::Vector2d(pattern.px, pattern.py).asDiagonal(), L = rve->lattice();
+  auto vec = [](const double* v, int n) {
+    std::string out = "[";
+    for (int k = 0; k < n; ++k) out += (k ? "," : "") + json_number(v[k]);
+    return out + "]";
+  };
+  auto lattice = [&](const Eigen::Matrix2d& M) {  // rows: the two lattice vectors
+    const double a[2] = {M(0, 0), M(1, 0)}, b[2] = {M(0, 1), M(1, 1)};
+    return "[" + vec(a, 2) + "," + vec(b, 2) + "]";
+  };
 
   if (o.json) {
     std::string g;
     for (int k = 0; k < 6; ++k) g += (k ? "," : "") + json_number(r.grad[k]);
     std::printf(
         "{\"pattern\":\"%s\",\"psi\":%s,\"grad\":[%s],\"iterations\":%d,\"residual\":%s,\"seconds\":%s,"
-        "\"converged\":%s,\"status\":\"%s\",\"energy\":%s,\"rest_iterations\":%d}\n",
-        rve.pattern().name.c_str(), json_number(r.psi).c_str(), g.c_str(), r.report.iterations,
+        "\"converged\":%s,\"status\":\"%s\",\"energy\":%s,\"rest_iterations\":%d,"
+        "\"rest_period_updates\":%d,\"psi0\":%s,\"rest_grad\":%s,\"lattice_original\":%s,"
+        "\"lattice_relaxed\":%s,\"reference_strain\":%s,\"areal_density\":%s}\n",
+        pattern.name.c_str(), json_number(r.psi).c_str(), g.c_str(), r.report.iterations,
         json_number(r.report.residual).c_str(), json_number(r.report.seconds).c_str(),
         r.report.converged() ? "true" : "false", yarn::to_string(r.report.status),
-        json_number(r.report.energy).c_str(), relaxed ? rest.iterations : 0);
+        json_number(r.report.energy).c_str(), relaxed ? rest.inner_iterations : 0, relaxed ? rest.iterations : 0,
+        json_number(at_rest.psi).c_str(), vec(at_rest.grad.data(), 6).c_str(), lattice(L0).c_str(),
+        lattice(L).c_str(), vec(yarn::in_plane_strain(rve->reference()).data(), 3).c_str(),
+        json_number(yarn::areal_density(*rve)).c_str());
   } else {
-    std::printf("pattern     %s (%d vertices, %zu yarns, %d unknowns)\n", rve.pattern().name.c_str(),
-                rve.pattern().size(), rve.topo().yarns.size(), rve.num_dofs());
+    std::printf("pattern     %s (%d vertices, %zu yarns, %d unknowns)\n", pattern.name.c_str(),
+                pattern.size(), rve->topo().yarns.size(), rve->num_dofs());
     if (relaxed) std::printf("rest        %s\n", rest.summary().c_str());
+    std::printf("period      pattern (%.6g, 0) (0, %.6g) m; reference (%.6g, %.6g) (%.6g, %.6g) m%s\n", L0(0, 0),
+                L0(1, 1), L(0, 0), L(1, 0), L(0, 1), L(1, 1),
+                rve->reference().isIdentity(0.0) ? " (the pattern's: pre-stressed)" : " (relaxed: stress free)");
+    std::printf("at rest     Psi0 %.10g J/m^2, dPsi/ds %.4g %.4g %.4g, dPsi/dII %.6g %.6g %.6g J/m\n",
+                at_rest.psi, at_rest.grad[0], at_rest.grad[1], at_rest.grad[2], at_rest.grad[3], at_rest.grad[4],
+                at_rest.grad[5]);
+    std::printf("density     %.6g kg/m^2 (yarn %.6g kg/m^3)\n", yarn::areal_density(*rve), mat.density);
     std::printf("strain      s_x %g  s_a %g  s_y %g  II_x %g  II_a %g  II_y %g (1/m)\n", s[0], s[1], s[2], s[3], s[4], s[5]);
     std::printf("solve       %s\n", r.report.summary().c_str());
     std::printf("Psi         %.10g J/m^2\n", r.psi);
@@ -109,9 +146,11 @@ void register_rve(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "rve",
       "Solve the periodic yarn RVE of a pattern at one macroscopic strain (docs/rve.md): relaxes "
-      "the pattern at rest, then minimizes the energy at the strain with Newton's method. Prints "
-      "Psi (J/m^2), dPsi/ds (envelope theorem), iterations, final residual and time. Exit status "
-      "2 when the solve does not converge.");
+      "the pattern at rest (yarns and tile period: s = 0 is the stress-free tile), then minimizes "
+      "the energy at the strain with Newton's method. Prints the pattern's and the relaxed periods, "
+      "Psi0 and dPsi/ds at rest (the natural bending moment dPsi/dII), the areal density, Psi "
+      "(J/m^2 of the relaxed tile), dPsi/ds (envelope theorem), iterations, final residual and "
+      "time. Exit status 2 when the solve does not converge.");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("--strain", o->strain, "s_x,s_a,s_y,II_x,II_a,II_y (II in 1/m; default 0,0,0,0,0,0)");
   cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
@@ -119,10 +158,18 @@ void register_rve(CLI::App& app) {
   cmd->add_option("--obj", o->obj, "Write a tube mesh of the yarns (OBJ)");
   cmd->add_option("--pattern-out", o->pattern_out,
                   "Write the pattern relaxed at rest as .pyp (its geometry is then an equilibrium)");
-  cmd->add_option("--start", o->start, "Start from this state file (warm start) instead of the relaxed rest state")->check(CLI::ExistingFile);
+  cmd->add_option("--start", o->start,
+                  "Start from this state file (warm start) instead of the relaxed rest state; the strain is then "
+                  "measured from the reference tile the file was solved in")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--fixed-period", o->fixed_period,
+                "Relax the yarns at the pattern's own period only (the tile stays pre-stressed: dPsi/ds(0) != 0); "
+                "default: the period relaxes too and s = 0 is the stress-free tile");
   cmd->add_option("--tolerance", o->tolerance, "Relative residual to converge to (default 1e-10)");
   cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations at most (default 200)");
-  cmd->add_flag("--json", o->json, "Print one JSON object: psi, grad, iterations, residual, seconds, converged, ...");
+  cmd->add_flag("--json", o->json,
+                "Print one JSON object: psi, grad, iterations, residual, seconds, converged, psi0, rest_grad, "
+                "lattice_original and lattice_relaxed (lattice vectors, m), reference_strain, areal_density, ...");
   cmd->add_flag("--verbose", o->verbose, "One line per Newton iteration on stderr");
   cmd->callback([o] { run(*o); });
 }

@@ -51,7 +51,8 @@ struct Node {
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   std::ostringstream f;
   f.precision(17);
-  f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance;
+  f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance
+    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period");
   for (const auto& t : opt.terms) f << " " << t.name;
   for (int i = 0; i < 6; ++i) {
     const Range r = pattern_range(p.name, i, opt.ranges);
@@ -69,16 +70,23 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   ProduceReport rep;
-  const RveProblem rve(pattern, opt.material);
-
-  // The rest state: the origin of every sector, and Psi0.
-  RveState rest = rve.initial_state();
-  SolveOptions rest_opt = opt.solve;
-  rest_opt.max_iterations = std::max(rest_opt.max_iterations, 500);
-  const DensityResult r0 = energy_density(rve, Strain::Zero(), rest, rest_opt);
-  rep.rest = r0.report;
-  if (!r0.report.converged())
-    throw std::runtime_error("produce: relaxing '" + pattern.name + "' at rest failed: " + r0.report.summary());
+  // The rest state: the origin of every sector, and Psi0. With free_period the tile's period
+  // relaxes too and the RVE's reference is the relaxed tile (s = 0 stress free).
+  RestOptions rest_opt;
+  rest_opt.free_period = opt.free_period;
+  rest_opt.solve = opt.solve;
+  rest_opt.solve.sensitivity_directions.clear();
+  RestTile tile = [&] {
+    try {
+      return relax_tile(pattern, opt.material, rest_opt);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(std::string("produce: ") + e.what());
+    }
+  }();
+  const RveProblem& rve = tile.rve;
+  const RveState rest = tile.state;
+  rep.rest = tile.report;
+  const DensityResult r0 = evaluate_density(rve, Strain::Zero(), rest);
 
   // Nodes of every term.
   std::vector<Node> nodes;
@@ -112,7 +120,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     std::ifstream in(opt.checkpoint);
     std::string line;
     if (in && std::getline(in, line)) {
-      if (line != "yarnhom-produce-checkpoint 1 " + fp)
+      if (line != "yarnhom-produce-checkpoint 2 " + fp)
         throw FileError(opt.checkpoint, "line 1",
                         "checkpoint of a different run (pattern, preset, terms, ranges or material differ); "
                         "remove it to start over");
@@ -143,7 +151,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     const bool fresh = rep.resumed == 0;
     if (fresh) {
       ck = std::fopen(opt.checkpoint.c_str(), "w");
-      if (ck) std::fprintf(ck, "yarnhom-produce-checkpoint 1 %s\n", fp.c_str());
+      if (ck) std::fprintf(ck, "yarnhom-produce-checkpoint 2 %s\n", fp.c_str());
     } else {
       ck = std::fopen(opt.checkpoint.c_str(), "a");
     }
@@ -293,10 +301,19 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   ds.psi0 = r0.psi;
   ds.rest_q.resize(rest.packed().size());
   Eigen::VectorXd::Map(ds.rest_q.data(), ds.rest_q.size()) = rest.packed();
+  const Eigen::Matrix2d L = rve.lattice();
+  ds.lattice_original = {pattern.px, 0.0, 0.0, pattern.py};
+  ds.lattice_relaxed = {L(0, 0), L(1, 0), L(0, 1), L(1, 1)};
+  ds.grad0.assign(r0.grad.data(), r0.grad.data() + 6);
+  ds.areal_density = areal_density(rve);
   {
     std::ostringstream note;
+    note.precision(9);
     note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start")
-         << "; material: " << format_material(opt.material);
+         << "; rest: " << (opt.free_period ? "stress-free tile, relaxed from the pattern's period by (s_x, s_a, s_y) = ("
+                                           : "the pattern's period, pre-stressed (")
+         << tile.report.strain[0] << ", " << tile.report.strain[1] << ", " << tile.report.strain[2]
+         << "); material: " << format_material(opt.material);
     ds.note = note.str();
   }
   for (size_t ti = 0; ti < opt.terms.size(); ++ti) {

@@ -10,6 +10,7 @@
 #include "core/dataset.hpp"
 #include "core/terms.hpp"
 #include "yarn/newton.hpp"
+#include "yarn/rest.hpp"
 #include "yarn/sampling.hpp"
 
 namespace yarnhom::yarn {
@@ -22,6 +23,8 @@ struct ProduceOptions {
   int sectors = 8;                       // per 2D term (1D terms: 2, one per side)
   bool warm_start = true;                // false: every node from the rest state
   bool predictor = true;                 // warm starts add the first-order continuation step
+  bool free_period = true;               // s = 0 is the stress-free tile (yarn/rest.hpp); false:
+                                         // the pattern's own period (pre-stressed)
   Material material;
   std::map<int, Range> ranges;           // per strain index, overriding the pattern's defaults
   SolveOptions solve;
@@ -48,7 +51,7 @@ struct Failure {
   std::string status;
 };
 struct ProduceReport {
-  SolveReport rest;
+  RestReport rest;
   std::vector<TermSummary> terms;
   std::vector<Failure> failures;   // nodes that did not converge warm, nor cold: not in the dataset
   int resumed = 0;                 // samples read back from the checkpoint

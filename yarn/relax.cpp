@@ -8,6 +8,11 @@ namespace yarnhom::yarn {
 
 Pattern pattern_at(const RveProblem& rve, const RveState& st) {
   Pattern q = rve.pattern();
+  // The reference tile becomes the pattern's tile (a .pyp tile is a rectangle).
+  if (rve.reference()(0, 1) != 0.0)
+    throw std::invalid_argument("pattern '" + q.name + "': a sheared reference tile cannot be written as a .pyp");
+  q.px = rve.lattice()(0, 0);
+  q.py = rve.lattice()(1, 1);
   const Strain zero = Strain::Zero();
   q.x = rve.positions(zero, st);
   q.theta = st.theta;

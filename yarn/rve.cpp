@@ -29,11 +29,14 @@ struct RveProblem::Node {
   Eigen::Matrix<double, 3, 6> omega; // dR/ds_k = [omega_k]x R (only when asked)
 };
 
-RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options)
-    : p_(std::move(pattern)), m_(material), opt_(options) {
+RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options, const Eigen::Matrix2d& reference)
+    : p_(std::move(pattern)), m_(material), opt_(options), F0_(reference) {
   const int n = p_.size();
   if (n < 2 || static_cast<int>(p_.rest_length.size()) != n)
     throw std::invalid_argument("RVE: pattern '" + p_.name + "' is incomplete (no rest state)");
+  if (!F0_.allFinite() || F0_(1, 0) != 0.0 || !(F0_(0, 0) > 0 && F0_(1, 1) > 0))
+    throw std::invalid_argument("RVE: the reference map of pattern '" + p_.name +
+                                "' must be upper triangular with a positive diagonal");
   topo_ = topology(p_);
   const double r = p_.radius;
   EA_ = m_.young * M_PI * r * r;
@@ -50,10 +53,14 @@ RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options)
   pinned_vertex_ = topo_.yarns[0][0];
   npos_[pinned_vertex_] = 0;
   basis_[pinned_vertex_].setZero();
+  // The yarn's direction in the reference tile (the stored edges mapped by F0).
+  Eigen::Matrix3d F03 = Eigen::Matrix3d::Identity();
+  F03.topLeftCorner<2, 2>() = F0_;
   for (size_t y = 1; y < topo_.yarns.size() && m_.slide_constraint; ++y) {
     const int v = topo_.yarns[y][0];
-    const Eigen::Vector3d t =
-        (stored_edge(p_, topo_, topo_.prev[v]).normalized() + stored_edge(p_, topo_, v).normalized()).normalized();
+    const Eigen::Vector3d t = ((F03 * stored_edge(p_, topo_, topo_.prev[v])).normalized() +
+                               (F03 * stored_edge(p_, topo_, v)).normalized())
+                                  .normalized();
     // Two unit vectors perpendicular to the yarn: the vertex may move across, not along it.
     Eigen::Vector3d a = std::abs(t[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
     const Eigen::Vector3d b1 = (a - a.dot(t) * t).normalized(), b2 = t.cross(b1);
@@ -103,6 +110,10 @@ RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options)
   }
 }
 
+Eigen::Matrix2d RveProblem::lattice() const {
+  return F0_ * Eigen::Vector2d(p_.px, p_.py).asDiagonal();
+}
+
 uint64_t RveProblem::pair_key(int a, int b, Eigen::Vector2i o) {
   if (a > b || (a == b && (o[0] < 0 || (o[0] == 0 && o[1] < 0)))) {
     std::swap(a, b);
@@ -122,10 +133,17 @@ RveState RveProblem::initial_state() const {
   st.theta = p_.theta;
   st.frames.edge.resize(n);
   st.frames.twist.resize(n);
+  // The stored frames, carried into the reference tile: tangents of the edges mapped by F0,
+  // directors parallel transported to them (nothing changes when F0 = I).
+  Eigen::Matrix3d F03 = Eigen::Matrix3d::Identity();
+  F03.topLeftCorner<2, 2>() = F0_;
   for (int v = 0; v < n; ++v) {
-    const Eigen::Vector3d t = stored_edge(p_, topo_, v).normalized();
-    Eigen::Vector3d d = p_.ref_d1[v] - p_.ref_d1[v].dot(t) * t;  // the file's are rounded
-    st.frames.edge[v] = {t, d.normalized()};
+    const Eigen::Vector3d t0 = stored_edge(p_, topo_, v).normalized();
+    Eigen::Vector3d d = p_.ref_d1[v] - p_.ref_d1[v].dot(t0) * t0;  // the file's are rounded
+    const Eigen::Vector3d t = (F03 * t0).normalized();
+    const V3<double> dt = transport_same(V3<double>(t0), V3<double>(t), V3<double>(d.normalized()));
+    d = Eigen::Vector3d(dt.x, dt.y, dt.z);
+    st.frames.edge[v] = {t, (d - d.dot(t) * t).normalized()};
   }
   for (int v = 0; v < n; ++v) {
     const int a = topo_.prev[v];
@@ -137,7 +155,9 @@ RveState RveProblem::initial_state() const {
 
 RveProblem::Node RveProblem::node(const Strain& s, const RveState& st, int v, Eigen::Vector2i o,
                                   bool want_ds) const {
-  const double xi1 = p_.x[v][0] + o[0] * p_.px, xi2 = p_.x[v][1] + o[1] * p_.py, h = p_.x[v][2];
+  // The reference point: the stored in-plane position (plus the image's period) mapped by F0.
+  const Eigen::Vector2d xi = F0_ * Eigen::Vector2d(p_.x[v][0] + o[0] * p_.px, p_.x[v][1] + o[1] * p_.py);
+  const double xi1 = xi[0], xi2 = xi[1], h = p_.x[v][2];
   const ShellPoint<double> sp = shell_map(s.data(), xi1, xi2, h);
   Node nd;
   const V3<double> x = sp.apply(st.u[v]);

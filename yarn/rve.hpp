@@ -61,12 +61,23 @@ struct RveOptions {
 
 class RveProblem {
  public:
-  RveProblem(Pattern pattern, Material material, RveOptions options = {});
+  // `reference` F0 (2x2, upper triangular, det > 0) maps the pattern's stored in-plane
+  // coordinates to the reference tile in which s = 0 is measured: the mid-surface is
+  //   phi(xi) = (F(s) F0 xi, 1/2 (F0 xi)^T II (F0 xi)),
+  // so the tile's lattice vectors at s = 0 are F0 (px, 0) and F0 (0, py). Identity: the
+  // pattern's own period (pre-stressed in general); the stress-free reference comes from
+  // relax_tile (yarn/rest.hpp, docs/rve.md section 6).
+  RveProblem(Pattern pattern, Material material, RveOptions options = {},
+             const Eigen::Matrix2d& reference = Eigen::Matrix2d::Identity());
 
   const Pattern& pattern() const { return p_; }
   const Topology& topo() const { return topo_; }
   const Material& material() const { return m_; }
-  double area() const { return p_.px * p_.py; }
+  const Eigen::Matrix2d& reference() const { return F0_; }
+  // Lattice vectors of the reference tile (columns): F0 diag(px, py).
+  Eigen::Matrix2d lattice() const;
+  // Area of the reference tile, det(F0) px py: Psi is energy per unit of this area.
+  double area() const { return F0_.determinant() * p_.px * p_.py; }
   int num_dofs() const { return ndof_; }
   double radius() const { return p_.radius; }
   double stretch_stiffness() const { return EA_; }
@@ -122,6 +133,7 @@ class RveProblem {
   Pattern p_;
   Material m_;
   RveOptions opt_;
+  Eigen::Matrix2d F0_;
   Topology topo_;
   double EA_, EI_, GJ_;
   ContactParams contact_;

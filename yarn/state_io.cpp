@@ -31,6 +31,8 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
     root.set_attr("residual", r.report.residual);
     root.set_attr("seconds", r.report.seconds);
     root.set_attr("material", format_material(rve.material()));
+    const Eigen::Matrix2d& F0 = rve.reference();
+    root.set_attr("reference", std::vector<double>{F0(0, 0), F0(0, 1), F0(1, 0), F0(1, 1)});
     const Eigen::VectorXd q = st.packed();
     root.write("q", std::vector<double>(q.data(), q.data() + q.size()), {hsize_t(n), 4});
     std::vector<double> x, t, d1;
@@ -74,6 +76,20 @@ RveState read_state(const std::string& path, const RveProblem& rve) {
     }
   }
   return st;
+}
+
+Eigen::Matrix2d read_state_reference(const std::string& path) {
+  const h5::Node root = h5::open_file(path);
+  if (!root.has_attr("format") || root.attr_string("format") != kStateFormat)
+    root.fail("/", std::string("not a yarnhom RVE state (attribute format != \"") + kStateFormat + "\")");
+  Eigen::Matrix2d F0 = Eigen::Matrix2d::Identity();
+  if (!root.has_attr("reference")) return F0;
+  const std::vector<double> r = root.attr_doubles("reference");
+  if (r.size() != 4) root.fail("/", "attribute reference must have 4 entries (F0 row-major)");
+  F0 << r[0], r[1], r[2], r[3];
+  if (!F0.allFinite() || r[2] != 0.0 || !(r[0] > 0 && r[3] > 0))
+    root.fail("/", "attribute reference is not upper triangular with a positive diagonal");
+  return F0;
 }
 
 void write_obj(const std::string& path, const RveProblem& rve, const Strain& s,

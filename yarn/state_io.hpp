@@ -5,7 +5,9 @@
 // State file:
 //   /            attrs: format="yarnhom-rve-state", version=1, pattern, units="SI",
 //                       strain[6], psi (J/m^2), grad[6], energy (J), converged (0/1),
-//                       status, iterations, residual, seconds, material (text)
+//                       status, iterations, residual, seconds, material (text),
+//                       reference[4] (F0 row-major: the reference tile the strain is measured
+//                       from, docs/rve.md section 6; absent in older files = identity)
 //   /q           float64 [n, 4]  per vertex: u (local mid-surface frame, m), theta (rad)
 //                                 (supplement Eq. 1 layout)
 //   /positions   float64 [n, 3]  deformed centreline vertices of the base tile (m)
@@ -26,6 +28,10 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
 // Reads a state to warm start from; refuses (FileError naming file and object) a file of
 // another format or of another vertex count than the problem's pattern.
 RveState read_state(const std::string& path, const RveProblem& rve);
+
+// The reference map F0 a state was solved with (identity for files written before it was
+// recorded); build the RveProblem with it before read_state.
+Eigen::Matrix2d read_state_reference(const std::string& path);
 
 // Tube mesh: each yarn followed for one period through the periodic images, a ring of
 // `sides` vertices around each centreline vertex, radius = the yarn radius.

@@ -84,6 +84,41 @@ TEST(DatasetFile, RoundTrip) {
   EXPECT_FALSE(fs::exists(t / "d.h5.partial-" + std::to_string(::getpid())));
 }
 
+// The rest-state additions (periods, rest gradient, areal density) are optional: a file
+// without them (every file written before them, and synthetic data) reads with the fields
+// empty / NaN; a file with them round-trips; a wrong size or a non-positive density is
+// refused naming the attribute.
+TEST(DatasetFile, RestAdditionsAreOptionalAndRoundTrip) {
+  TempDir t;
+  write_raw_dataset(t / "old.h5", 3, 1, 1.0);  // as an old producer wrote it
+  const Dataset old = read_dataset(t / "old.h5");
+  EXPECT_TRUE(old.lattice_original.empty() && old.lattice_relaxed.empty() && old.grad0.empty());
+  EXPECT_TRUE(std::isnan(old.areal_density));
+  Dataset a = make_synthetic_dataset("quick");
+  write_dataset(t / "plain.h5", a);
+  EXPECT_FALSE(h5::open_file(t / "plain.h5").has_attr("areal_density"));
+  a.lattice_original = {0.015, 0, 0, 0.008};
+  a.lattice_relaxed = {0.0138, 0, 4.6e-5, 0.0084};
+  a.grad0 = {1e-9, -2e-9, 3e-9, 0.0275, 0.0002, -0.0227};
+  a.areal_density = 0.34;
+  write_dataset(t / "d.h5", a);
+  const Dataset b = read_dataset(t / "d.h5");
+  EXPECT_EQ(b.lattice_original, a.lattice_original);
+  EXPECT_EQ(b.lattice_relaxed, a.lattice_relaxed);
+  EXPECT_EQ(b.grad0, a.grad0);
+  EXPECT_EQ(b.areal_density, 0.34);
+  a.grad0.pop_back();
+  EXPECT_THROW(write_dataset(t / "e.h5", a), FileError);
+  a.grad0.push_back(0);
+  a.areal_density = -1;
+  try {
+    write_dataset(t / "e.h5", a);
+    FAIL() << "accepted a negative areal density";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("areal_density"), std::string::npos) << e.what();
+  }
+}
+
 TEST(DatasetFile, MissingFile) { expect_refused("/nonexistent/d.h5", "", "no such file"); }
 
 TEST(DatasetFile, NotHdf5) {
@@ -176,6 +211,10 @@ TEST(ModelFile, RoundTrip) {
   Model r = read_model(t / "m.h5");
   EXPECT_EQ(r.dataset, "some.h5");
   EXPECT_EQ(r.seed, 42u);
+  EXPECT_TRUE(std::isnan(r.areal_density)) << "absent: unknown";
+  m.areal_density = 0.33;
+  write_model(t / "m2.h5", m);
+  EXPECT_EQ(read_model(t / "m2.h5").areal_density, 0.33);
   ASSERT_EQ(r.networks.size(), 2u);
   for (size_t j = 0; j < 2; ++j) {
     EXPECT_EQ(r.networks[j].params, m.networks[j].params);

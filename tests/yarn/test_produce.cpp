@@ -85,8 +85,11 @@ TEST(Produce, WarmAndColdStartsReachTheSameEquilibria) {
   // Within moderate strains. At the corner s_x = -0.2, s_y = 1 of the spec's box the two
   // starts find different local minima on stocktiny (36.48 and 36.60 J/m^2, the warm one
   // lower): far from rest the landscape has several wells, and the warm start's continuation
-  // picks the branch connected to the rest state.
-  opt.ranges = {{0, {-0.1, 0.5}}, {2, {-0.1, 0.5}}};
+  // picks the branch connected to the rest state. Since the stress-free rest, s is measured
+  // from the relaxed tile (stocktiny: 0.9 % wider, 4.3 % taller than the stored one), and the
+  // corner (-0.1, 0.5) of the earlier box lies past such a fork too (warm 18.078, cold 17.954
+  // J/m^2): the box is now (-0.1, 0.4).
+  opt.ranges = {{0, {-0.1, 0.4}}, {2, {-0.1, 0.4}}};
   const Pattern p = tiny();
   const Dataset warm = produce(p, opt);
   opt.warm_start = false;
@@ -100,6 +103,44 @@ TEST(Produce, WarmAndColdStartsReachTheSameEquilibria) {
           << warm.terms[t].strain[i * warm.terms[t].dim() + warm.terms[t].dim() - 1];
   }
   validate_dataset(warm, "warm");
+}
+
+// With the stress-free rest (default) the dataset's in-plane 1D terms start flat: their
+// gradient target at t = 0 is zero and their energy target is >= 0 around it; the dataset
+// records both periods, the rest gradient and the areal density. With --fixed-period the same
+// pattern has a non-zero gradient there (what the stress-free rest removes).
+TEST(Produce, InPlaneTermsHaveZeroGradientAtRest) {
+  ProduceOptions opt;
+  opt.preset = "tiny";
+  opt.terms = parse_term_list("0,1,2");
+  opt.ranges = {{0, {-0.1, 0.1}}, {1, {-0.1, 0.1}}, {2, {-0.1, 0.1}}};
+  const Pattern p = tiny();
+  const Dataset ds = produce(p, opt);
+  ASSERT_EQ(ds.terms.size(), 3u);
+  for (const TermData& t : ds.terms) {
+    double gmax = 0;
+    for (double g : t.gradient) gmax = std::max(gmax, std::abs(g));
+    for (int i = 0; i < t.n; ++i) {
+      EXPECT_GE(t.energy[i], -1e-12 * ds.psi0) << t.term.name << " at " << t.strain[i];
+      if (t.strain[i] == 0.0) {
+        EXPECT_LT(std::abs(t.gradient[i]), 1e-6 * gmax) << t.term.name;
+      }
+    }
+  }
+  ASSERT_EQ(ds.lattice_original.size(), 4u);
+  ASSERT_EQ(ds.lattice_relaxed.size(), 4u);
+  EXPECT_EQ(ds.lattice_original[0], p.px);
+  EXPECT_EQ(ds.lattice_original[3], p.py);
+  EXPECT_NE(ds.lattice_relaxed[0], p.px);
+  ASSERT_EQ(ds.grad0.size(), 6u);
+  EXPECT_LT(Eigen::Vector3d(ds.grad0[0], ds.grad0[1], ds.grad0[2]).norm(), 1e-6);
+  EXPECT_GT(ds.areal_density, 0.0);
+  validate_dataset(ds, "stress-free");
+
+  opt.free_period = false;
+  const Dataset fixed = produce(p, opt);
+  EXPECT_GT(Eigen::Vector3d(fixed.grad0[0], fixed.grad0[1], fixed.grad0[2]).norm(), 0.1);
+  EXPECT_EQ(fixed.lattice_relaxed, fixed.lattice_original);
 }
 
 TEST(Produce, KilledRunResumesToTheSameDataset) {

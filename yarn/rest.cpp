@@ -1,0 +1,173 @@
+#include "yarn/rest.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <stdexcept>
+
+namespace yarnhom::yarn {
+
+Eigen::Matrix2d in_plane_map(const Eigen::Vector3d& s) {
+  Eigen::Matrix2d F;
+  F << 1 + s[0], s[1] * (1 + s[2]), 0, (1 + s[2]) * std::sqrt(1 - s[1] * s[1]);
+  return F;
+}
+
+Eigen::Vector3d in_plane_strain(const Eigen::Matrix2d& F) {
+  // Columns of F are the deformed axes: |col 0| = 1 + s_x, |col 1| = 1 + s_y, and s_a the
+  // cosine of the angle between them.
+  const double a = F.col(0).norm(), c = F.col(1).norm();
+  return {a - 1, F.col(0).dot(F.col(1)) / (a * c), c - 1};
+}
+
+RveState carry_to_reference(const RveState& st, const Strain& s) {
+  const ShellPoint<double> sp = shell_map(s.data(), 0.0, 0.0, 0.0);
+  Eigen::Matrix3d R;
+  for (int c = 0; c < 3; ++c) R.col(c) = Eigen::Vector3d(sp.R[c].x, sp.R[c].y, sp.R[c].z);
+  RveState out = st;
+  for (auto& u : out.u) u = R * u;
+  for (auto& f : out.frames.edge) f = {R * f.t, R * f.d1};
+  return out;
+}
+
+double relative_stress(const RveProblem& rve, const Strain& dEds) {
+  const auto& L = rve.pattern().rest_length;
+  const double total = std::accumulate(L.begin(), L.end(), 0.0);
+  return dEds.head<3>().norm() / (rve.stretch_stiffness() * total);
+}
+
+double areal_density(const RveProblem& rve) {
+  const auto& L = rve.pattern().rest_length;
+  const double r = rve.radius();
+  return rve.material().density * M_PI * r * r * std::accumulate(L.begin(), L.end(), 0.0) / rve.area();
+}
+
+std::string RestReport::summary() const {
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s after %d period updates (%d Newton iterations), in-plane stress %.2g, relaxed tile "
+                "s_x %.6g s_a %.6g s_y %.6g, %.3f s",
+                converged ? "stress free" : "NOT stress free", iterations, inner_iterations, stress, strain[0],
+                strain[1], strain[2], seconds);
+  return buf;
+}
+
+namespace {
+
+Strain flat(const Eigen::Vector3d& s) {
+  Strain out = Strain::Zero();
+  out.head<3>() = s;
+  return out;
+}
+
+}  // namespace
+
+RestTile relax_tile(const Pattern& pattern, const Material& material, const RestOptions& opt,
+                    const RveOptions& rve_options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RestTile tile{RveProblem(pattern, material, rve_options), RveState{}, RestReport{}};
+  RestReport& rep = tile.report;
+  const std::vector<Strain> axes = {flat({1, 0, 0}), flat({0, 1, 0}), flat({0, 0, 1})};
+  SolveOptions inner = opt.solve;
+  inner.tolerance = std::min(inner.tolerance, 1e-12);  // G is only as good as the equilibrium
+  inner.verbose = false;
+  if (opt.free_period) inner.sensitivity_directions = axes;
+  SolveOptions first = inner;
+  first.max_iterations = std::max(first.max_iterations, 500);
+  first.verbose = opt.solve.verbose;
+
+  // 1. The fluctuations at the pattern's own period (cold, from the stored geometry).
+  tile.state = tile.rve.initial_state();
+  rep.first = solve(tile.rve, Strain::Zero(), tile.state, first);
+  rep.last = rep.first;
+  rep.inner_iterations = rep.first.iterations;
+  auto finish = [&] {
+    rep.strain = in_plane_strain(tile.rve.reference());
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  if (!rep.first.converged())
+    throw std::runtime_error("relaxing pattern '" + pattern.name + "' at rest failed: " + rep.first.summary());
+  Strain dE;
+  tile.rve.evaluate(Strain::Zero(), tile.state, nullptr, nullptr, nullptr, &dE);
+  rep.stress = relative_stress(tile.rve, dE);
+  if (!opt.free_period) {
+    rep.converged = true;  // nothing asked beyond the fluctuations
+    finish();
+    return tile;
+  }
+
+  // 2. The period: Newton on E(s) = min_y E(s, y) over s = (s_x, s_a, s_y), II = 0.
+  std::vector<Eigen::VectorXd> du = rep.first.sensitivity;
+  for (;;) {
+    const RveProblem& P = tile.rve;
+    const Eigen::Vector3d G = dE.head<3>();
+    rep.stress = relative_stress(P, dE);
+    if (opt.verbose)
+      std::fprintf(stderr, "  rest %2d  E %.12g  stress %.3e  s %.6g %.6g %.6g\n", rep.iterations,
+                   rep.last.energy, rep.stress, in_plane_strain(P.reference())[0],
+                   in_plane_strain(P.reference())[1], in_plane_strain(P.reference())[2]);
+    if (rep.stress <= opt.tolerance) {
+      rep.converged = true;
+      break;
+    }
+    if (rep.iterations >= opt.max_iterations) break;
+    if (du.size() != 3) du = equilibrium_sensitivity(P, Strain::Zero(), tile.state, axes);
+    if (du.size() != 3) break;
+    // Reduced Hessian: central differences of the envelope gradient along the equilibrium path.
+    constexpr double h = 1e-5;
+    Eigen::Matrix3d K;
+    for (int j = 0; j < 3; ++j) {
+      RveState p = tile.state, m = tile.state;
+      P.apply_step(du[j], h, p);
+      P.apply_step(du[j], -h, m);
+      Strain dp, dm;
+      P.evaluate(h * axes[j], p, nullptr, nullptr, nullptr, &dp);
+      P.evaluate(-h * axes[j], m, nullptr, nullptr, nullptr, &dm);
+      K.col(j) = (dp - dm).head<3>() / (2 * h);
+    }
+    K = 0.5 * (K + K.transpose()).eval();
+    // A tile that is not a minimum in its period (buckling under compression) has an
+    // indefinite K: shift it so that the step still descends.
+    const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(K).eigenvalues();
+    const double floor = 1e-6 * std::max(ev.cwiseAbs().maxCoeff(), 1e-300);
+    if (ev.minCoeff() < floor) K += (floor - ev.minCoeff()) * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d d = -K.ldlt().solve(G);
+    const double big = d.cwiseAbs().maxCoeff();
+    if (big > opt.max_step) d *= opt.max_step / big;
+    const double slope = G.dot(d), E0 = rep.last.energy;
+
+    // Line search on the total energy; every trial re-solves the fluctuations in the moved
+    // reference, starting from the first-order prediction of the equilibrium.
+    bool accepted = false;
+    for (double alpha = 1.0; alpha > 1e-4; alpha *= 0.5) {
+      const Strain ds = flat(alpha * d);
+      RveState trial = tile.state;
+      Eigen::VectorXd step = Eigen::VectorXd::Zero(P.num_dofs());
+      for (int j = 0; j < 3; ++j) step += ds[j] * du[j];
+      P.apply_step(step, 1.0, trial);
+      trial = carry_to_reference(trial, ds);
+      RveProblem moved(pattern, material, rve_options, in_plane_map(ds.head<3>()) * P.reference());
+      const SolveReport r = solve(moved, Strain::Zero(), trial, inner);
+      rep.inner_iterations += r.iterations;
+      if (!r.converged()) continue;
+      if (!(r.energy <= E0 + 1e-4 * alpha * slope || -slope < 1e-13 * std::abs(E0))) continue;
+      tile.rve = std::move(moved);
+      tile.state = std::move(trial);
+      rep.last = r;
+      du = r.sensitivity;
+      tile.rve.evaluate(Strain::Zero(), tile.state, nullptr, nullptr, nullptr, &dE);
+      ++rep.iterations;
+      accepted = true;
+      break;
+    }
+    if (!accepted) break;
+  }
+  finish();
+  if (!rep.converged)
+    throw std::runtime_error("relaxing the period of pattern '" + pattern.name + "' failed: " + rep.summary());
+  return tile;
+}
+
+}  // namespace yarnhom::yarn
