@@ -67,6 +67,7 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
   b.dataset = model.dataset;
   b.psi0 = psi0;
   b.psi0_known = psi0_known;
+  b.areal_density = model.areal_density;
   for (const ModelNetwork& net : model.networks) b.tables.push_back(bake_network(net, res1d, res2d));
   return b;
 }

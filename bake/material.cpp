@@ -176,6 +176,7 @@ BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, do
 BakedMaterial make_baked_material(const BakedModel& m, const std::string& file, std::string* missing) {
   BakedMaterial mat;
   mat.psi0 = m.psi0;
+  mat.areal_density = m.areal_density;
   const auto& terms = all_terms();
   for (size_t k = 0; k < terms.size(); ++k) {
     const BakedTable* t = m.find(terms[k].name);

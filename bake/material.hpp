@@ -20,6 +20,7 @@
 // as a baked table is within a cell. That is how umbilic points are handled.
 #include <Eigen/Dense>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -32,6 +33,7 @@ using Strain6 = Eigen::Matrix<double, 6, 1>;
 
 struct BakedMaterial {
   double psi0 = 0.0;
+  double areal_density = NAN;  // kg/m^2 (gravity, inertia); NaN: the baked file does not say
   std::array<std::optional<BakedTerm>, 14> terms;  // in the order of all_terms(); absent: 0
 };
 

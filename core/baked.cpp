@@ -35,6 +35,8 @@ void check_size(const std::vector<double>& v, size_t n, const std::string& file,
 void validate_baked(const BakedModel& m, const std::string& file) {
   if (m.tables.empty()) throw FileError(file, "/tables", "no tables");
   if (!std::isfinite(m.psi0)) throw FileError(file, "/", "psi0 is not finite");
+  if (!std::isnan(m.areal_density) && !(m.areal_density > 0 && std::isfinite(m.areal_density)))
+    throw FileError(file, "/", "areal_density must be positive and finite (absent when unknown)");
   for (const BakedTable& t : m.tables) {
     const std::string g = "/tables/" + t.term.name;
     const size_t d = t.dim();
@@ -75,6 +77,7 @@ void write_baked(const std::string& path, const BakedModel& m) {
     root.set_attr("dataset", m.dataset);
     root.set_attr("psi0", m.psi0);
     root.set_attr("psi0_known", m.psi0_known ? 1 : 0);
+    if (!std::isnan(m.areal_density)) root.set_attr("areal_density", m.areal_density);
     h5::Node tables = root.create_group("tables");
     for (const BakedTable& t : m.tables) {
       h5::Node g = tables.create_group(t.term.name);
@@ -129,6 +132,7 @@ BakedModel read_baked(const std::string& path) {
   m.dataset = root.attr_string("dataset");
   m.psi0 = root.attr_double("psi0");
   m.psi0_known = root.attr_int("psi0_known") != 0;
+  if (root.has_attr("areal_density")) m.areal_density = root.attr_double("areal_density");
   h5::Node tables = root.group("tables");
   for (const std::string& name : tables.children()) {
     const Term* term = nullptr;

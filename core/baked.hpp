@@ -4,7 +4,8 @@
 // box; outside the box the safeguard extends it (docs/bake.md has the formulas).
 //
 //   /                       attrs: format="yarnhom-baked", version=1, model, dataset,
-//                                  psi0 (J/m^2), psi0_known (1 when psi0 came from the dataset)
+//                                  psi0 (J/m^2), psi0_known (1 when psi0 came from the dataset),
+//                                  [areal_density (kg/m^2; absent: unknown)]
 //   /tables/<name>          attrs: indices, lower, upper, knots (int[d]), and as in the model
 //                                  file: activation, hidden, in_center, in_halfwidth, out_mean,
 //                                  out_std, epochs, backend, status
@@ -23,6 +24,7 @@
 // checks that they agree); they are stored so that a reader without this library can
 // evaluate the extension from docs/bake.md alone.
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -64,6 +66,7 @@ struct BakedModel {
   std::string dataset;  // that model's dataset
   double psi0 = 0.0;    // Psi(0), J/m^2 (0 when unknown)
   bool psi0_known = false;
+  double areal_density = NAN;  // kg/m^2 of the reference tile (gravity, inertia); NaN: unknown
   std::vector<BakedTable> tables;  // in catalogue order (core/terms.hpp)
   const BakedTable* find(const std::string& name) const;
 };

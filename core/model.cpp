@@ -48,6 +48,7 @@ void write_model(const std::string& path, const Model& model) {
     root.set_attr("version", kModelVersion);
     root.set_attr("dataset", model.dataset);
     root.set_attr("seed", static_cast<int64_t>(model.seed));
+    if (!std::isnan(model.areal_density)) root.set_attr("areal_density", model.areal_density);
     h5::Node nets = root.create_group("networks");
     for (const ModelNetwork& n : model.networks) {
       h5::Node g = nets.create_group(n.term.name);
@@ -91,6 +92,11 @@ Model read_model(const std::string& path) {
   Model m;
   m.dataset = root.attr_string("dataset");
   m.seed = static_cast<uint64_t>(root.attr_int("seed"));
+  if (root.has_attr("areal_density")) {
+    m.areal_density = root.attr_double("areal_density");
+    if (!(m.areal_density > 0 && std::isfinite(m.areal_density)))
+      root.fail("/", "areal_density must be positive and finite (absent when unknown)");
+  }
   h5::Node nets = root.group("networks");
   for (const Term& term : all_terms()) {
     if (!nets.has(term.name)) continue;

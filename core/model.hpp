@@ -3,13 +3,15 @@
 // normalization, its training recipe and history. Everything needed to evaluate
 // Psi_hat(s) in physical units without the program is in the file.
 //
-//   /                             attrs: format="yarnhom-model", version=1, dataset, seed
+//   /                             attrs: format="yarnhom-model", version=1, dataset, seed,
+//                                 [areal_density (kg/m^2, copied from the dataset)]
 //   /networks/<name>              attrs: indices, lower, upper, activation, hidden,
 //                                 in_center[d], in_halfwidth[d], out_mean, out_std,
 //                                 w_Z w_F w_C w_S w_X, epochs, backend, status
 //   /networks/<name>/layer<k>/W   float32 [out, in]   (y = W x + b)
 //   /networks/<name>/layer<k>/b   float32 [out]
 //   /networks/<name>/history/{train_loss, val_loss, lr, L_Z, L_F, L_C, L_S}  per epoch
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -46,6 +48,7 @@ struct ModelNetwork {
 struct Model {
   std::string dataset;  // the dataset file it was trained on
   uint64_t seed = 0;
+  double areal_density = NAN;  // kg/m^2, from the dataset; NaN: unknown (absent in the file)
   std::vector<ModelNetwork> networks;
   const ModelNetwork* find(const std::string& name) const;
 };

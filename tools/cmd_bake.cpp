@@ -94,9 +94,12 @@ void register_bake(CLI::App& app) {
     double psi0 = 0;
     bool known = false;
     const std::string data = o->data.empty() ? find_dataset(o->model, model.dataset) : o->data;
+    double areal_density = model.areal_density;
     if (!data.empty()) {
-      psi0 = read_dataset(data).psi0;
+      const Dataset ds = read_dataset(data);
+      psi0 = ds.psi0;
       known = true;
+      if (std::isnan(areal_density)) areal_density = ds.areal_density;  // a model trained before it was copied
     } else {
       std::fprintf(stderr,
                    "yarnhom bake: note: the model's dataset '%s' was not found, so Psi0 is stored "
@@ -104,6 +107,7 @@ void register_bake(CLI::App& app) {
                    model.dataset.c_str());
     }
     BakedModel baked = bake_model(model, o->model, o->res1d, o->res2d, psi0, known);
+    baked.areal_density = areal_density;
     const double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     write_baked(o->out, baked);
     std::printf("term  knots      max|baked-net|/range  grad max rel   safeguard\n");

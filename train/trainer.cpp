@@ -158,6 +158,7 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
   }
 
   res.model.dataset = dataset_path;
+  res.model.areal_density = ds.areal_density;
   res.model.seed = opt.seed;
   for (size_t j = 0; j < J; ++j) {
     res.rows[j].active = false;

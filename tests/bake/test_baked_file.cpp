@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
+
 #include <filesystem>
 
 #include "bake/bake_table.hpp"
+#include "bake/material.hpp"
 #include "core/baked.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
@@ -44,6 +47,7 @@ TEST(BakedFile, RoundTrip) {
   EXPECT_EQ(r.dataset, "data.h5");
   EXPECT_DOUBLE_EQ(r.psi0, 0.125);
   EXPECT_TRUE(r.psi0_known);
+  EXPECT_TRUE(std::isnan(r.areal_density)) << "absent (the model did not know it): unknown";
   ASSERT_EQ(r.tables.size(), 2u);
   for (size_t k = 0; k < 2; ++k) {
     const BakedTable &a = m.tables[k], &b = r.tables[k];
@@ -60,6 +64,11 @@ TEST(BakedFile, RoundTrip) {
     EXPECT_EQ(a.desc.hidden, b.desc.hidden);
     EXPECT_NO_THROW(make_baked_term(b, p.string()));
   }
+  // The areal density round-trips and reaches the full material (the simulator's gravity).
+  m.areal_density = 0.3318;
+  write_baked(p.string(), m);
+  EXPECT_EQ(read_baked(p.string()).areal_density, 0.3318);
+  EXPECT_EQ(make_baked_material(read_baked(p.string())).areal_density, 0.3318);
   fs::remove_all(p.parent_path());
 }
 

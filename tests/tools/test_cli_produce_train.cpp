@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/model.hpp"
 #include "tests/common/run_cli.hpp"
@@ -61,6 +62,13 @@ TEST(ProduceThenTrainAll, QuickPresetTrainsAndEvery1DNetworkLearns) {
       EXPECT_LT(v.back(), 0.1 * v.front()) << n.term.name;
     }
   }
+  // The areal density (kg/m^2, for the continuum simulator's gravity) goes from the dataset
+  // into the model file and the baked file unchanged.
+  ASSERT_TRUE(std::isfinite(ds.areal_density) && ds.areal_density > 0);
+  EXPECT_EQ(m.areal_density, ds.areal_density);
+  r = yarnhom::test::run_cli("bake " + d + "/m.h5 -o " + d + "/b.h5 --res1d 20 --res2d 8 --no-check");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(yarnhom::read_baked(d + "/b.h5").areal_density, ds.areal_density);
   fs::remove_all(d);
 }
 
