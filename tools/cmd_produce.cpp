@@ -94,9 +94,14 @@ void run(const ProduceOpts& o) {
                 t.cpu_seconds);
   std::printf("total       %.1f s wall, %.1f s in solves (%.1f s CPU)\n", rep.seconds, rep.solve_seconds,
               rep.solve_cpu_seconds);
+  std::printf("topology    every stored node certified: no yarn segment pair within d_min = %.3g x 2r along its "
+              "path; closest centrelines %.4g x 2r%s\n",
+              yarn::RveOptions{}.barrier_dmin, rep.min_separation / (2 * p.radius),
+              rep.refused ? (", " + std::to_string(rep.refused) + " node(s) refused").c_str() : "");
   std::printf("dataset     %s\n", o.out.c_str());
   if (!rep.failures.empty()) {
-    std::fprintf(stderr, "yarnhom: error: %zu nodes did not converge (warm, then cold); they are not in the dataset:\n",
+    std::fprintf(stderr, "yarnhom: error: %zu nodes did not converge with a valid topology certificate (warm, by continuation from "
+                 "the parent, cold, by continuation from rest); they are not in the dataset:\n",
                  rep.failures.size());
     for (const auto& f : rep.failures) {
       std::fprintf(stderr, "  term %s at s =", f.term.c_str());

@@ -12,14 +12,15 @@
 #include "yarn/generate.hpp"
 #include "yarn/relax.hpp"
 #include "yarn/rest.hpp"
+#include "yarn/rve_ccd.hpp"
 #include "yarn/state_io.hpp"
 
 namespace yarnhom::tools {
 namespace {
 
 struct RveOpts {
-  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out;
-  bool json = false, verbose = false, fixed_period = false;
+  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify;
+  bool json = false, verbose = false, fixed_period = false, no_ccd = false;
   double tolerance = 1e-10;
   int max_iterations = 200;
 };
@@ -39,6 +40,23 @@ std::string json_number(double v) {
   return buf;
 }
 
+// --certify: re-checks the path recorded in a state file from scratch.
+void certify(const RveOpts& o, const yarn::RveProblem& rve) {
+  const yarn::RveState st = yarn::read_state(o.certify, rve);
+  const double two_r = 2 * rve.radius();
+  std::printf("state       %s\n", o.certify.c_str());
+  std::printf("claimed     %s\n", yarn::summary(st.certificate, two_r).c_str());
+  if (st.path.empty()) {
+    std::printf("re-checked  nothing: the file holds no recorded path (write it with yarnhom rve --out)\n");
+    throw ExitCode{3};
+  }
+  yarn::ContactCertificate c = yarn::certify_path(rve, st.path, rve.min_separation());
+  const yarn::PathPoint& last = st.path.back();
+  if (!(last.s == st.anchor.s && last.u == st.u)) yarn::invalidate(c, "the recorded path does not end at the saved state");
+  std::printf("re-checked  %s (%zu configurations)\n", yarn::summary(c, two_r).c_str(), st.path.size());
+  if (!c.valid) throw ExitCode{3};
+}
+
 void run(const RveOpts& o) {
   const std::vector<double> sv = parse_numbers(o.strain, "--strain");
   if (sv.size() != 6)
@@ -49,13 +67,20 @@ void run(const RveOpts& o) {
     throw std::invalid_argument("--strain: need s_x > -1, s_y > -1 and |s_a| < 1");
   const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::read_material(o.material);
   const yarn::Pattern pattern = load_pattern(o.pattern);
+  if (!o.certify.empty()) {
+    const yarn::RveProblem rve(pattern, mat, yarn::RveOptions{}, yarn::read_state_reference(o.certify));
+    return certify(o, rve);
+  }
   yarn::SolveOptions opt;
+  opt.ccd = !o.no_ccd;
   opt.tolerance = o.tolerance;
   opt.max_iterations = o.max_iterations;
   opt.verbose = o.verbose;
 
   // The reference: the pattern relaxed at rest, its period included (s = 0 is then the
   // stress-free tile; docs/rve.md section 6), or the reference a given state was solved in.
+  // With --out the whole path (from the pattern's own geometry) is recorded in the state file,
+  // for --certify.
   std::unique_ptr<yarn::RveProblem> rve;
   yarn::RveState st;
   yarn::RestReport rest;
@@ -64,12 +89,14 @@ void run(const RveOpts& o) {
     if (!o.pattern_out.empty()) throw std::invalid_argument("--pattern-out needs the rest relaxation: drop --start");
     rve = std::make_unique<yarn::RveProblem>(pattern, mat, yarn::RveOptions{}, yarn::read_state_reference(o.start));
     st = yarn::read_state(o.start, *rve);
+    if (o.out.empty()) st.path.clear();
   } else {
     yarn::RestOptions ro;
     ro.free_period = !o.fixed_period;
     ro.solve = opt;
     ro.solve.max_iterations = std::max(opt.max_iterations, 200);  // --max-iterations is for the strain
     ro.verbose = o.verbose;
+    ro.record_path = !o.out.empty();
     yarn::RestTile tile = yarn::relax_tile(pattern, mat, ro);
     rve = std::make_unique<yarn::RveProblem>(std::move(tile.rve));
     st = std::move(tile.state);
@@ -105,14 +132,17 @@ void run(const RveOpts& o) {
         "{\"pattern\":\"%s\",\"psi\":%s,\"grad\":[%s],\"iterations\":%d,\"residual\":%s,\"seconds\":%s,"
         "\"converged\":%s,\"status\":\"%s\",\"energy\":%s,\"rest_iterations\":%d,"
         "\"rest_period_updates\":%d,\"psi0\":%s,\"rest_grad\":%s,\"lattice_original\":%s,"
-        "\"lattice_relaxed\":%s,\"reference_strain\":%s,\"areal_density\":%s}\n",
+        "\"lattice_relaxed\":%s,\"reference_strain\":%s,\"areal_density\":%s,\"certificate_valid\":%s,"
+        "\"min_separation\":%s,\"d_min\":%s,\"barrier_energy\":%s}\n",
         pattern.name.c_str(), json_number(r.psi).c_str(), g.c_str(), r.report.iterations,
         json_number(r.report.residual).c_str(), json_number(r.report.seconds).c_str(),
         r.report.converged() ? "true" : "false", yarn::to_string(r.report.status),
         json_number(r.report.energy).c_str(), relaxed ? rest.inner_iterations : 0, relaxed ? rest.iterations : 0,
         json_number(at_rest.psi).c_str(), vec(at_rest.grad.data(), 6).c_str(), lattice(L0).c_str(),
         lattice(L).c_str(), vec(yarn::in_plane_strain(rve->reference()).data(), 3).c_str(),
-        json_number(yarn::areal_density(*rve)).c_str());
+        json_number(yarn::areal_density(*rve)).c_str(), st.certificate.valid ? "true" : "false",
+        json_number(st.certificate.min_distance / (2 * rve->radius())).c_str(),
+        json_number(rve->min_separation() / (2 * rve->radius())).c_str(), json_number(r.parts.barrier).c_str());
   } else {
     std::printf("pattern     %s (%d vertices, %zu yarns, %d unknowns)\n", pattern.name.c_str(),
                 pattern.size(), rve->topo().yarns.size(), rve->num_dofs());
@@ -128,14 +158,23 @@ void run(const RveOpts& o) {
     std::printf("solve       %s\n", r.report.summary().c_str());
     std::printf("Psi         %.10g J/m^2\n", r.psi);
     std::printf("dPsi/ds     %.8g %.8g %.8g %.8g %.8g %.8g\n", r.grad[0], r.grad[1], r.grad[2], r.grad[3], r.grad[4], r.grad[5]);
-    std::printf("energy      stretch %.4g  bend %.4g  twist %.4g  contact %.4g J\n", r.parts.stretch,
-                r.parts.bend, r.parts.twist, r.parts.contact);
+    std::printf("energy      stretch %.4g  bend %.4g  twist %.4g  contact %.4g  barrier %.4g J\n", r.parts.stretch,
+                r.parts.bend, r.parts.twist, r.parts.contact, r.parts.barrier);
+    std::printf("topology    %s\n", yarn::summary(st.certificate, 2 * rve->radius()).c_str());
     if (!o.out.empty()) std::printf("state       %s\n", o.out.c_str());
     if (!o.obj.empty()) std::printf("mesh        %s\n", o.obj.c_str());
   }
   if (!r.report.converged()) {
     std::fprintf(stderr, "yarnhom: error: the RVE solve did not converge: %s\n", r.report.summary().c_str());
+    if (r.report.status == yarn::SolveStatus::kInfeasibleStart)
+      std::fprintf(stderr, "yarnhom: the strain is too far from the start for one step: solve at an intermediate strain "
+                           "first (--out), then --start from it\n");
     throw ExitCode{2};
+  }
+  if (!st.certificate.valid) {
+    std::fprintf(stderr, "yarnhom: error: the solution is not certified to have the rest state's topology: %s\n",
+                 yarn::summary(st.certificate, 2 * rve->radius()).c_str());
+    throw ExitCode{3};
   }
 }
 
@@ -147,10 +186,11 @@ void register_rve(CLI::App& app) {
       "rve",
       "Solve the periodic yarn RVE of a pattern at one macroscopic strain (docs/rve.md): relaxes "
       "the pattern at rest (yarns and tile period: s = 0 is the stress-free tile), then minimizes "
-      "the energy at the strain with Newton's method. Prints the pattern's and the relaxed periods, "
-      "Psi0 and dPsi/ds at rest (the natural bending moment dPsi/dII), the areal density, Psi "
-      "(J/m^2 of the relaxed tile), dPsi/ds (envelope theorem), iterations, final residual and "
-      "time. Exit status 2 when the solve does not converge.");
+      "the energy at the strain with Newton's method, every step filtered by collision detection so "
+      "that no yarn passes through another. Prints the pattern's and the relaxed periods, Psi0 and "
+      "dPsi/ds at rest (the natural bending moment dPsi/dII), the areal density, Psi (J/m^2 of the "
+      "relaxed tile), dPsi/ds (envelope theorem), iterations, final residual, time and the topology "
+      "certificate. Exit status 2 when the solve does not converge, 3 when the result is not certified.");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("--strain", o->strain, "s_x,s_a,s_y,II_x,II_a,II_y (II in 1/m; default 0,0,0,0,0,0)");
   cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
@@ -169,7 +209,15 @@ void register_rve(CLI::App& app) {
   cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations at most (default 200)");
   cmd->add_flag("--json", o->json,
                 "Print one JSON object: psi, grad, iterations, residual, seconds, converged, psi0, rest_grad, "
-                "lattice_original and lattice_relaxed (lattice vectors, m), reference_strain, areal_density, ...");
+                "lattice_original and lattice_relaxed (lattice vectors, m), reference_strain, areal_density, certificate_valid, min_separation and d_min (in yarn diameters 2r), barrier_energy, ...");
+  cmd->add_option("--certify", o->certify,
+                  "Re-check the topology certificate of a state file written by --out: every configuration of its "
+                  "recorded path, from the pattern's own geometry, and every straight move between them must keep "
+                  "all yarn segment pairs above d_min (CCD). Exit status 3 when it does not hold")
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--no-ccd", o->no_ccd,
+                "Do not shorten Newton steps by collision detection (for comparison only: yarns may pass through "
+                "each other; the certificate then says so)");
   cmd->add_flag("--verbose", o->verbose, "One line per Newton iteration on stderr");
   cmd->callback([o] { run(*o); });
 }

@@ -29,9 +29,17 @@ struct SolveOptions {
   // direction) the solve returns on convergence, for a continuation predictor (see
   // SolveReport::sensitivity). Empty: none computed.
   std::vector<Strain> sensitivity_directions;
+  // The collision filter (docs/rve.md section 5): every step is shortened so that no segment
+  // pair comes within d_min along it (CCD). false: unfiltered steps, for comparisons and
+  // tests only; moves are still checked and a state that passed within d_min is marked in
+  // its certificate.
+  bool ccd = true;
 };
 
-enum class SolveStatus { kConverged, kMaxIterations, kLineSearchFailed, kNonFinite };
+// kInfeasibleStart: the straight move from the state's last checked configuration to the
+// start at the new strain would bring yarn segments within d_min (a strain step too large for
+// the configuration: solve in smaller strain steps); the state is left unchanged.
+enum class SolveStatus { kConverged, kMaxIterations, kLineSearchFailed, kNonFinite, kInfeasibleStart };
 const char* to_string(SolveStatus s);
 
 struct SolveReport {
@@ -44,6 +52,8 @@ struct SolveReport {
   int shifted = 0;       // iterations that needed the definiteness shift
   int analyses = 0;      // symbolic factorizations done
   int line_search_retries = 0;  // line searches that failed and were retried with a larger shift
+  int ccd_limited = 0;   // iterations whose step the collision filter shortened
+  bool start_reset = false;  // the given start was not safely reachable; the anchor's u was used
   // On convergence, per SolveOptions::sensitivity_directions D: the first-order change of the
   // equilibrium unknowns (reduced, as RveProblem::apply_step takes them) per unit t along D,
   // from differentiating g(u(t), s + t D) = 0:  H du/dt = -(dg/ds) D. H is the last Newton

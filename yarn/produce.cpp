@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -46,13 +47,16 @@ struct Node {
   std::string status;
   int iterations = 0;
   double seconds = 0, cpu_seconds = 0;
+  double min_separation = std::numeric_limits<double>::infinity();  // certificate's closest distance (m)
 };
 
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   std::ostringstream f;
   f.precision(17);
+  // "contact=barrier-ccd": samples of runs before the collision filter and certificate are not
+  // resumed (they may hold states with yarns passed through each other).
   f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance
-    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period");
+    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd";
   for (const auto& t : opt.terms) f << " " << t.name;
   for (int i = 0; i < 6; ++i) {
     const Range r = pattern_range(p.name, i, opt.ranges);
@@ -86,6 +90,9 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   const RveProblem& rve = tile.rve;
   const RveState rest = tile.state;
   rep.rest = tile.report;
+  if (!rest.certificate.valid)
+    throw std::runtime_error("produce: pattern '" + pattern.name + "': " + summary(rest.certificate, 2 * pattern.radius));
+  rep.min_separation = rest.certificate.min_distance;
   const DensityResult r0 = evaluate_density(rve, Strain::Zero(), rest);
 
   // Nodes of every term.
@@ -246,43 +253,66 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
           if (std::isfinite(Ep) && Ep < Em) st = std::move(pred);
         }
       }
-      DensityResult r = energy_density(rve, n.s, st, solve_opt);
-      double secs = r.report.seconds, cpu = r.report.cpu_seconds;
-      int iters = r.report.iterations;
-      if (!r.report.converged() && !(st.u == rest.u && st.theta == rest.theta)) {
-        st = rest;  // retry cold
-        r = energy_density(rve, n.s, st, opt.solve);
+      // Attempts, in order, until one converges with a valid topology certificate (the path
+      // from the pattern through the rest state and every warm start to this node never
+      // brought two yarn segments within d_min: docs/produce.md). A converged state without
+      // one is refused, never stored.
+      DensityResult r;
+      double secs = 0, cpu = 0;
+      int iters = 0;
+      bool refused = false;
+      auto run = [&](RveState& y, const Strain& target, const SolveOptions& so) {
+        r = energy_density(rve, target, y, so);
         secs += r.report.seconds;
         cpu += r.report.cpu_seconds;
         iters += r.report.iterations;
-      }
-      if (!r.report.converged()) {
-        // Last resort: continuation from the rest state along the ray to s in 8 steps (the
-        // extreme corners of the boxes, large stretch with large curvature, can defeat a
-        // single Newton solve from far away).
-        st = rest;
-        for (int k = 1; k <= 8; ++k) {
-          r = energy_density(rve, n.s * (k / 8.0), st, opt.solve);
-          secs += r.report.seconds;
-          cpu += r.report.cpu_seconds;
-          iters += r.report.iterations;
-          if (!r.report.converged()) break;
+        return r.report.converged();
+      };
+      auto accept = [&](RveState& y) {
+        if (!r.report.converged()) return false;
+        if (y.certificate.valid) {
+          st = std::move(y);
+          return true;
         }
-      }
+        refused = true;
+        return false;
+      };
+      // Continuation from the equilibrium `from` (at its own strain) to the node in k equal
+      // strain steps, each a solve.
+      auto continuation = [&](const RveState& from, int k) {
+        RveState y = from;
+        const Strain s0 = y.anchor.s;
+        for (int j = 1; j <= k; ++j)
+          if (!run(y, s0 + (n.s - s0) * (double(j) / k), j == k ? solve_opt : opt.solve)) return false;
+        return accept(y);
+      };
+      const RveState* parent_state = opt.warm_start && parent >= 0 && states.count(parent) ? &states[parent] : nullptr;
+      RveState y = st;
+      bool ok = run(y, n.s, solve_opt) && accept(y);
+      // Smaller continuation steps from the parent, then from the rest state (a cold start and
+      // the ray from rest in 8 steps: the extreme corners of the boxes, large stretch with
+      // large curvature, can defeat a single Newton solve from far away).
+      if (!ok && parent_state) ok = continuation(*parent_state, 4);
+      if (!ok && opt.warm_start) ok = continuation(rest, 1);
+      if (!ok) ok = continuation(rest, 8);
       n.psi = r.psi;
       n.grad = r.grad;
-      n.status = to_string(r.report.status);
+      n.status = ok ? "converged" : refused ? "topology_refused" : to_string(r.report.status);
       n.iterations = iters;
       n.seconds = secs;
       n.cpu_seconds = cpu;
       n.done = true;
-      if (r.report.converged() && opt.warm_start) {
+      if (ok) {
+        n.min_separation = st.certificate.min_distance;
+      }
+      if (ok && opt.warm_start) {
         states[li] = std::move(st);
         if (!r.report.sensitivity.empty()) sens[li] = std::move(r.report.sensitivity);
       }
       std::lock_guard<std::mutex> lock(mu);
       ++done;
-      if (!r.report.converged()) ++failed;
+      if (!ok && refused) ++rep.refused;
+      if (!ok) ++failed;
       if (ck) {
         std::fprintf(ck, "%d %d %s %d %.17g %.17g", n.term, n.index, n.status.c_str(), n.iterations, n.seconds, n.psi);
         for (int k = 0; k < 6; ++k) std::fprintf(ck, " %.17g", n.grad[k]);
@@ -343,6 +373,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       }
     }
     sum.mean_iterations = sum.nodes ? double(iters) / sum.nodes : 0;
+    for (int id : ids)
+      if (ok(nodes[id])) rep.min_separation = std::min(rep.min_separation, nodes[id].min_separation);
     rep.solve_seconds += sum.seconds;
     rep.solve_cpu_seconds += sum.cpu_seconds;
     if (t.dim() == 1) {

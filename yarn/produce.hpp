@@ -3,6 +3,7 @@
 // node grid, solved sector by sector in the order of supplement Algorithm 1 with warm starts,
 // checkpointed as samples finish, assembled into the dataset that train-all reads.
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,6 +55,12 @@ struct ProduceReport {
   RestReport rest;
   std::vector<TermSummary> terms;
   std::vector<Failure> failures;   // nodes that did not converge warm, nor cold: not in the dataset
+                                   // (status "topology_refused": converged, but along a path that
+                                   // brought yarns within d_min; never stored)
+  int refused = 0;                 // nodes whose every converged attempt was refused so
+  // Smallest closest distance between yarn centrelines (m) over the whole certified paths of
+  // the nodes solved in this run (rest state included); +inf if none.
+  double min_separation = std::numeric_limits<double>::infinity();
   int resumed = 0;                 // samples read back from the checkpoint
   double seconds = 0;              // wall time of this run
   double solve_seconds = 0;        // sum of the node solves' wall times

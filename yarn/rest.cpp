@@ -22,13 +22,42 @@ Eigen::Vector3d in_plane_strain(const Eigen::Matrix2d& F) {
   return {a - 1, F.col(0).dot(F.col(1)) / (a * c), c - 1};
 }
 
-RveState carry_to_reference(const RveState& st, const Strain& s) {
+namespace {
+
+// The local frame of a flat strain (the same at every point).
+Eigen::Matrix3d flat_frame(const Strain& s) {
   const ShellPoint<double> sp = shell_map(s.data(), 0.0, 0.0, 0.0);
   Eigen::Matrix3d R;
   for (int c = 0; c < 3; ++c) R.col(c) = Eigen::Vector3d(sp.R[c].x, sp.R[c].y, sp.R[c].z);
+  return R;
+}
+
+// A configuration (flat strain s_p, u_p) of the old reference F0, in the new reference
+// F(s) F0: the same positions F(s_p) F0 xi + R(s_p) u_p = F(s') F(s) F0 xi + R(s') u', so
+// F(s') = F(s_p) F(s)^-1 (upper triangular again) and u' = R(s')^T R(s_p) u_p.
+PathPoint carry_point(const PathPoint& p, const Strain& s) {
+  if (!p.s.tail<3>().isZero(0.0))
+    throw std::logic_error("carry_to_reference: a configuration under curvature cannot be carried to a new reference");
+  PathPoint q;
+  q.s.setZero();
+  q.s.head<3>() = in_plane_strain(in_plane_map(p.s.head<3>()) * in_plane_map(s.head<3>()).inverse());
+  const Eigen::Matrix3d R = flat_frame(q.s).transpose() * flat_frame(p.s);
+  q.u.reserve(p.u.size());
+  for (const auto& u : p.u) q.u.push_back(R * u);
+  return q;
+}
+
+}  // namespace
+
+RveState carry_to_reference(const RveState& st, const Strain& s) {
+  const Eigen::Matrix3d R = flat_frame(s);
   RveState out = st;
   for (auto& u : out.u) u = R * u;
   for (auto& f : out.frames.edge) f = {R * f.t, R * f.d1};
+  // The checked path (docs/rve.md section 5) is carried along: its last configuration and,
+  // when recorded, all of them.
+  out.anchor = carry_point(st.anchor, s);
+  for (auto& p : out.path) p = carry_point(p, s);
   return out;
 }
 
@@ -79,7 +108,9 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
   first.verbose = opt.solve.verbose;
 
   // 1. The fluctuations at the pattern's own period (cold, from the stored geometry).
-  tile.state = tile.rve.initial_state();
+  tile.state = tile.rve.initial_state(opt.record_path);
+  if (!tile.state.certificate.valid)
+    throw std::runtime_error("pattern '" + pattern.name + "': " + summary(tile.state.certificate, 2 * pattern.radius));
   rep.first = solve(tile.rve, Strain::Zero(), tile.state, first);
   rep.last = rep.first;
   rep.inner_iterations = rep.first.iterations;

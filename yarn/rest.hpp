@@ -41,7 +41,8 @@ Eigen::Vector3d in_plane_strain(const Eigen::Matrix2d& F);
 
 // A state of an RVE at the flat strain s, carried into the RVE whose reference is F(s) F0:
 // the same positions and frames, now at s = 0 (u and the stored frames turned by the local
-// frame's rotation R(s)).
+// frame's rotation R(s)). Its checked path (anchor, recorded path: flat strains only) is
+// carried too, as the same positions in the new reference.
 RveState carry_to_reference(const RveState& state, const Strain& flat_strain);
 
 struct RestOptions {
@@ -51,6 +52,7 @@ struct RestOptions {
   double max_step = 0.1;    // largest change of one strain component per update
   SolveOptions solve;       // inner solves (tolerance tightened to 1e-12 at most)
   bool verbose = false;     // one line per period update on stderr
+  bool record_path = false; // record the state's whole path from the pattern (RveState::path)
 };
 
 struct RestReport {

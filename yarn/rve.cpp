@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include "yarn/frames.hpp"
+#include "yarn/rve_ccd.hpp"
 
 namespace yarnhom::yarn {
 
@@ -43,6 +44,10 @@ RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options, c
   EI_ = m_.young * M_PI * r * r * r * r / 4.0;
   GJ_ = m_.shear * M_PI * r * r * r * r / 2.0;
   contact_ = {r, m_.contact_stiffness * r, opt_.contact_quadrature};
+  if (!(opt_.barrier_dmin > 0 && opt_.barrier_dhat > opt_.barrier_dmin && opt_.barrier_dhat <= 1.0 &&
+        opt_.barrier_stiffness > 0))
+    throw std::invalid_argument("RVE: barrier needs 0 < d_min < d_hat <= 2r (in diameters) and a positive stiffness");
+  barrier_ = {opt_.barrier_dmin * 2 * r, opt_.barrier_dhat * 2 * r, opt_.barrier_stiffness * contact_.kc * 4 * r * r};
 
   // Zero modes (docs/rve.md): the whole RVE's translation (pin every component of the first
   // vertex of yarn 0: this also stops yarn 0 sliding along itself); every other yarn's sliding
@@ -126,10 +131,26 @@ bool RveProblem::excluded(int a, int b, Eigen::Vector2i o) const {
   return (a == b && o.isZero()) || excluded_.count(pair_key(a, b, o)) > 0;
 }
 
-RveState RveProblem::initial_state() const {
+Strain RveProblem::pattern_strain() const {
+  // F0^-1 = [[a, b], [0, c]]: its columns are the deformed axes of F(s).
+  const Eigen::Matrix2d M = F0_.inverse();
+  const double a = M.col(0).norm(), c = M.col(1).norm();
+  Strain s = Strain::Zero();
+  s << a - 1, M.col(0).dot(M.col(1)) / (a * c), c - 1, 0, 0, 0;
+  if (F0_.isIdentity(0.0)) s.setZero();  // exactly, not to round-off
+  return s;
+}
+
+RveState RveProblem::initial_state(bool record_path) const {
   const int n = p_.size();
   RveState st;
   st.u.assign(n, Eigen::Vector3d::Zero());
+  st.anchor = {pattern_strain(), st.u};
+  if (record_path) st.path = {st.anchor};
+  st.certificate.dmin = barrier_.dmin;
+  st.certificate.min_distance = yarn::min_separation(*this, st.anchor.s, st, 2 * p_.radius);
+  if (!(st.certificate.min_distance > barrier_.dmin))
+    invalidate(st.certificate, "the pattern's own geometry has yarn segments closer than d_min");
   st.theta = p_.theta;
   st.frames.edge.resize(n);
   st.frames.twist.resize(n);
@@ -434,6 +455,16 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
       Mat12 H;
       e.contact += segment_contact_energy(q, p_.rest_length[pr.a], p_.rest_length[pr.b], contact_,
                                           derivs ? &g : nullptr, hess ? &H : nullptr);
+      // The barrier on the pair's exact closest distance (zero beyond d_hat < 2r: most pairs
+      // stop at its distance test).
+      Vec12 gb;
+      Mat12 Hb;
+      const double eb = segment_barrier_energy(q, barrier_, derivs ? &gb : nullptr, hess ? &Hb : nullptr);
+      if (eb != 0) {
+        e.barrier += eb;
+        if (derivs) g += gb;
+        if (hess) H += Hb;
+      }
       if (derivs) {
         const Node* nodes[4] = {&base[pr.a], &na1, &nb0, &nb1};
         const int verts[4] = {pr.a, a1, pr.b, b1};
@@ -447,6 +478,7 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
     e.bend += L.e.bend;
     e.twist += L.e.twist;
     e.contact += L.e.contact;
+    e.barrier += L.e.barrier;
     if (grad) *grad += L.g;
     if (hess) hess->insert(hess->end(), L.trip.begin(), L.trip.end());
     if (dEds) *dEds += L.d;

@@ -11,7 +11,9 @@
 #include <unordered_set>
 #include <vector>
 
+#include "yarn/barrier.hpp"
 #include "yarn/contact.hpp"
+#include "yarn/contact_certificate.hpp"
 #include "yarn/material.hpp"
 #include "yarn/pattern.hpp"
 #include "yarn/rod.hpp"
@@ -34,6 +36,13 @@ struct FrameState {
   std::vector<double> twist;    // reference twist per joint (vertex)
 };
 
+// One configuration of the yarns: the strain and the fluctuations (positions do not depend on
+// the twist angles). A path of them is what a topology certificate checks (yarn/rve_ccd.hpp).
+struct PathPoint {
+  Strain s = Strain::Zero();
+  std::vector<Eigen::Vector3d> u;
+};
+
 // Everything a solve starts from and ends with. Warm starting = passing the state of a
 // neighbouring strain: u is relative to the local mid-surface frame, so keeping it is the
 // solution migration of supplement Eq. 2; the reference directors are parallel transported
@@ -42,13 +51,21 @@ struct RveState {
   std::vector<Eigen::Vector3d> u;  // per vertex, in the local frame (q1, q2, n), m
   std::vector<double> theta;       // per vertex: twist angle of its outgoing edge, rad
   FrameState frames;
+  // The path that led to this state from the pattern's own geometry (docs/rve.md section 5):
+  // what its collision checks found, and the last configuration they checked. A solve first
+  // checks the straight move from `anchor` to its own start (s, u), so a state may be changed
+  // between solves (a warm start's predictor) without the change going unchecked. `path`
+  // holds every configuration of it when recording (initial_state(true)), else stays empty.
+  ContactCertificate certificate;
+  PathPoint anchor;
+  std::vector<PathPoint> path;
   // [u^0, tau^0, u^1, tau^1, ...] as in supplement Eq. 1 (4 values per vertex).
   Eigen::VectorXd packed() const;
 };
 
 struct EnergyParts {
-  double stretch = 0, bend = 0, twist = 0, contact = 0;
-  double total() const { return stretch + bend + twist + contact; }
+  double stretch = 0, bend = 0, twist = 0, contact = 0, barrier = 0;
+  double total() const { return stretch + bend + twist + contact + barrier; }
 };
 
 struct RveOptions {
@@ -57,6 +74,14 @@ struct RveOptions {
                                    // yarn than this (rest arc length) never touch
   double hessian_margin = 0.5;     // in yarn radii: pairs this far beyond contact still get
                                    // (zero) Hessian entries, so the sparsity pattern is stable
+  // The barrier on the closest distance of segment pairs (yarn/barrier.hpp, docs/rve.md
+  // section 3), in yarn diameters 2r: +inf at barrier_dmin (no solve step reaches it: the
+  // Newton solver's collision filter), zero beyond barrier_dhat; energy scale
+  // barrier_stiffness * k_c (2r)^2. Physical equilibria keep their centrelines above
+  // 0.62 x 2r (measured, docs/rve.md), so the barrier does not touch them.
+  double barrier_dmin = 0.25;
+  double barrier_dhat = 0.5;
+  double barrier_stiffness = 1.0;
 };
 
 class RveProblem {
@@ -82,8 +107,21 @@ class RveProblem {
   double radius() const { return p_.radius; }
   double stretch_stiffness() const { return EA_; }
 
-  // u = 0, theta, frames and reference twists from the pattern.
-  RveState initial_state() const;
+  // u = 0, theta, frames and reference twists from the pattern. Its anchor is the pattern's own
+  // geometry (pattern_strain(), u = 0; with F0 = I that is s = 0), its certificate that
+  // geometry's closest distance (valid if above d_min), and with record_path its path starts
+  // there: the first solve checks the move from it to its start.
+  RveState initial_state(bool record_path = false) const;
+
+  // The strain at which this problem reproduces the pattern's own stored geometry with u = 0:
+  // F(s) F0 = I, the in-plane strain of F0^-1 (zero when F0 = I). Every certified path starts
+  // there (docs/rve.md section 5).
+  Strain pattern_strain() const;
+
+  // The barrier's parameters (m, J); min_separation() = its d_min, the separation that a
+  // topology certificate checks (docs/rve.md section 5).
+  const BarrierParams& barrier() const { return barrier_; }
+  double min_separation() const { return barrier_.dmin; }
 
   // Energy at s; with grad: the gradient in the reduced unknowns; with hess: the lower
   // triangle (row >= col) of the symmetric Hessian as triplets (duplicates summed by the
@@ -137,6 +175,7 @@ class RveProblem {
   Topology topo_;
   double EA_, EI_, GJ_;
   ContactParams contact_;
+  BarrierParams barrier_;
   int ndof_ = 0;
   std::vector<int> pos_index_, npos_, theta_index_;
   std::vector<Eigen::Matrix3d> basis_;

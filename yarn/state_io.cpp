@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -46,6 +47,26 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
     fr.write("t", t, {hsize_t(n), 3});
     fr.write("d1", d1, {hsize_t(n), 3});
     fr.write("twist", st.frames.twist, {hsize_t(n)});
+    // The topology certificate of the path that led here, and the path itself when recorded
+    // (every configuration from the pattern's own geometry: re-checkable, yarnhom rve --certify).
+    const ContactCertificate& c = st.certificate;
+    h5::Node cg = root.create_group("certificate");
+    cg.set_attr("valid", c.valid ? 1 : 0);
+    cg.set_attr("dmin", c.dmin);
+    cg.set_attr("min_distance", std::isfinite(c.min_distance) ? c.min_distance : -1.0);
+    cg.set_attr("moves", c.moves);
+    cg.set_attr("failure", c.failure);
+    cg.set_attr("anchor_strain", std::vector<double>(st.anchor.s.data(), st.anchor.s.data() + 6));
+    if (!st.path.empty()) {
+      const hsize_t m = st.path.size();
+      std::vector<double> ps, pu;
+      for (const PathPoint& pp : st.path) {
+        ps.insert(ps.end(), pp.s.data(), pp.s.data() + 6);
+        for (const auto& u : pp.u) pu.insert(pu.end(), {u[0], u[1], u[2]});
+      }
+      cg.write("path_strain", ps, {m, 6});
+      cg.write("path_u", pu, {m, hsize_t(n), 3});
+    }
   }
   out.commit();
 }
@@ -75,6 +96,45 @@ RveState read_state(const std::string& path, const RveProblem& rve) {
       st.frames.twist[v] = tw.data[v];
     }
   }
+  // The certificate as the file states it, and the configuration it ends at; a file without
+  // one (written before certificates existed) is not certified.
+  st.anchor = {Strain::Zero(), st.u};
+  if (root.has_attr("strain")) {
+    const auto sv = root.attr_doubles("strain");
+    if (sv.size() == 6) st.anchor.s = Eigen::Map<const Strain>(sv.data());
+  }
+  ContactCertificate c;
+  c.dmin = rve.min_separation();
+  if (!root.has("certificate")) {
+    invalidate(c, "the state file has no topology certificate");
+  } else {
+    const h5::Node cg = root.group("certificate");
+    c.valid = cg.attr_int("valid") != 0;
+    c.dmin = cg.attr_double("dmin");
+    c.min_distance = cg.attr_double("min_distance");
+    if (c.min_distance < 0) c.min_distance = std::numeric_limits<double>::infinity();
+    c.moves = static_cast<int>(cg.attr_int("moves"));
+    c.failure = cg.attr_string("failure");
+    if (cg.has_attr("anchor_strain")) {
+      const auto sv = cg.attr_doubles("anchor_strain");
+      if (sv.size() == 6) st.anchor.s = Eigen::Map<const Strain>(sv.data());
+    }
+    if (c.dmin != rve.min_separation())
+      invalidate(c, "certified against another d_min than this problem's");
+    if (cg.has("path_strain")) {
+      const auto ps = cg.read_double("path_strain"), pu = cg.read_double("path_u");
+      const size_t m = ps.rows();
+      if (ps.cols() != 6 || pu.dims.size() != 3 || pu.dims[0] != m || int(pu.dims[1]) != n || pu.dims[2] != 3)
+        cg.fail("path_u", "path arrays do not match (expected [m, 6] and [m, " + std::to_string(n) + ", 3])");
+      st.path.resize(m);
+      for (size_t i = 0; i < m; ++i) {
+        st.path[i].s = Eigen::Map<const Strain>(&ps.data[6 * i]);
+        st.path[i].u.resize(n);
+        for (int v = 0; v < n; ++v) st.path[i].u[v] = Eigen::Map<const Eigen::Vector3d>(&pu.data[(i * n + v) * 3]);
+      }
+    }
+  }
+  st.certificate = c;
   return st;
 }
 

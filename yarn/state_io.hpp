@@ -14,6 +14,10 @@
 //   /frames/t    float64 [n, 3]  reference frames the solve used (rest tangents ...)
 //   /frames/d1   float64 [n, 3]  (... and directors), and the reference twists:
 //   /frames/twist float64 [n]
+//   /certificate  attrs: valid (0/1), dmin (m), min_distance (m; -1 if none), moves, failure,
+//                        anchor_strain[6] (the strain of the last checked configuration)
+//   /certificate/path_strain float64 [m, 6]     the recorded path (when recorded): every
+//   /certificate/path_u      float64 [m, n, 3]  configuration from the pattern's own geometry
 #include <string>
 
 #include "yarn/energy_density.hpp"
@@ -26,7 +30,9 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
                  const RveState& state, const DensityResult& result);
 
 // Reads a state to warm start from; refuses (FileError naming file and object) a file of
-// another format or of another vertex count than the problem's pattern.
+// another format or of another vertex count than the problem's pattern. The certificate is
+// taken as the file states it (yarn/rve_ccd.hpp certify_path re-checks a recorded path); a
+// file without one reads as not certified.
 RveState read_state(const std::string& path, const RveProblem& rve);
 
 // The reference map F0 a state was solved with (identity for files written before it was
