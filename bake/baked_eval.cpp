@@ -72,17 +72,17 @@ void partials_2d(const BakedTerm& t, double x, double y, int na, int nb, double 
 void partials_2d(const BakedTerm& t, double x, double y, double D[4][4]) { partials_2d(t, x, y, 4, 4, D); }
 
 // Weights w[m][i] with which the m-th derivative along one axis combines the partials D_i at
-// the clamped point: inside, w = delta(i, m); outside by dx, the quadratic extension
-// sum_{i<=2} D_i dx^i / i! differentiated m times.
-void axis_weights(bool outside, double dx, double w[4][4]) {
+// the clamped point: inside, w = delta(i, m); outside by dx, the extension
+// sum_{i<=p} D_i dx^i / i! differentiated m times, p = 2 (safeguard) or 1 (linear).
+void axis_weights(bool outside, double dx, double w[4][4], int p = 2) {
   for (int m = 0; m < 4; ++m)
     for (int i = 0; i < 4; ++i) w[m][i] = 0;
   if (!outside) {
     for (int m = 0; m < 4; ++m) w[m][m] = 1;
     return;
   }
-  for (int m = 0; m <= 2; ++m)
-    for (int i = m; i <= 2; ++i) {
+  for (int m = 0; m <= p; ++m)
+    for (int i = m; i <= p; ++i) {
       const int e = i - m;
       w[m][i] = e == 0 ? 1.0 : e == 1 ? dx : 0.5 * dx * dx;
     }
@@ -99,6 +99,7 @@ BakedTerm build(const BakedTable& tb) {
   BakedTerm t;
   t.term = tb.term;
   t.dim = d;
+  t.linear = tb.extrapolation == kBakedLinear;
   for (int k = 0; k < d; ++k) {
     if (tb.knots[k] < 2 || !(tb.lower[k] < tb.upper[k]))
       throw std::invalid_argument("baked table '" + tb.term.name + "': empty box or < 2 knots");
@@ -165,8 +166,9 @@ void compute_safeguard(BakedTable& tb) {
       const double X = e == 0 ? t.lo[0] : t.hi[0];
       double D[4];
       partials_1d(t, X, D);
-      // The paper's form a s^2 + b s + c of the quadratic matching f, f', f'' at X.
-      const double a = 0.5 * D[2], b = D[1] - 2 * a * X, c = D[0] - a * X * X - b * X;
+      // The paper's form a s^2 + b s + c of the quadratic matching f, f', f'' at X (a = 0 for a
+      // linear table: the tangent).
+      const double a = t.linear ? 0.0 : 0.5 * D[2], b = D[1] - 2 * a * X, c = D[0] - a * X * X - b * X;
       (e == 0 ? tb.safeguard_lower : tb.safeguard_upper) = {a, b, c};
     }
     return;
@@ -182,7 +184,7 @@ void compute_safeguard(BakedTable& tb) {
       double D[4][4];
       if (axis == 0) partials_2d(t, X, y, D);
       else partials_2d(t, y, X, D);
-      for (int k = 0; k < 3; ++k) {
+      for (int k = 0; k < (t.linear ? 2 : 3); ++k) {  // a linear table keeps g2 = g2' = 0
         out[6 * j + 2 * k] = axis == 0 ? D[k][0] : D[0][k];
         out[6 * j + 2 * k + 1] = axis == 0 ? D[k][1] : D[1][k];
       }
@@ -193,6 +195,7 @@ void compute_safeguard(BakedTable& tb) {
     double D[4][4];
     partials_2d(t, X, Y, D);
     tb.corners[c] = {D[0][0], D[1][0], D[0][1], D[2][0], D[1][1], D[0][2], D[2][1], D[1][2]};
+    if (t.linear) tb.corners[c] = {D[0][0], D[1][0], D[0][1], 0.0, D[1][1], 0.0, 0.0, 0.0};
   }
 }
 
@@ -254,21 +257,22 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
     const double xc = std::clamp(s[0], t.lo[0], t.hi[0]), dx = s[0] - xc;
     double D[4], w[4][4];
     partials_1d(t, xc, D);
-    axis_weights(s[0] != xc, dx, w);
+    axis_weights(s[0] != xc, dx, w, t.linear ? 1 : 2);
     for (int m = 0; m <= order; ++m) out[m] = w[m][0] * D[0] + w[m][1] * D[1] + w[m][2] * D[2] + w[m][3] * D[3];
     return;
   }
   const double xc = std::clamp(s[0], t.lo[0], t.hi[0]), yc = std::clamp(s[1], t.lo[1], t.hi[1]);
   const bool ox = s[0] != xc, oy = s[1] != yc;
   // Partials needed: along an axis inside, up to the requested order; outside, up to 2 (the
-  // extension is quadratic in the outside coordinate).
-  const int na = ox ? 3 : order + 1, nb = oy ? 3 : order + 1;
+  // extension is quadratic in the outside coordinate; 1 for a linear table).
+  const int p = t.linear ? 1 : 2;
+  const int na = ox ? p + 1 : order + 1, nb = oy ? p + 1 : order + 1;
   double D[4][4], wx[4][4], wy[4][4];
   partials_2d(t, xc, yc, na, nb, D);
-  // In a corner the extension drops the D_22 term (see the header).
-  if (ox && oy) D[2][2] = 0;
-  axis_weights(ox, s[0] - xc, wx);
-  axis_weights(oy, s[1] - yc, wy);
+  // In a corner the safeguard drops the D_22 term (see the header).
+  if (ox && oy && !t.linear) D[2][2] = 0;
+  axis_weights(ox, s[0] - xc, wx, p);
+  axis_weights(oy, s[1] - yc, wy, p);
   auto deriv = [&](int m, int n) {
     double acc = 0;
     for (int i = 0; i < na; ++i) {

@@ -19,6 +19,12 @@
 // corner would leave a gradient jump of D_21 dx^2/2 wherever the edge curvature varies along
 // the edge. The whole extension is C1 (C2 in 1D) with the table; its third derivatives are 0
 // in 1D and in a corner constant.
+//
+// Tables with extrapolation "linear" (fit-splines, HYLC's convention) continue to first order
+// only: F = sum_{i<=1} D_i dx^i per outside axis, i.e. D_0 + D_1 dx in 1D, D_00(y) + D_10(y) dx
+// in an edge band, D_00 + D_10 dx + D_01 dy + D_11 dx dy in a corner (the tensor product of the
+// 1D extensions, as ARCSim-HYLC's HermiteSpline2D). C1 with the table; second derivatives
+// across the box boundary jump to their outside values (0 along the outside axis).
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -33,6 +39,7 @@ struct BakedTerm {
   int dim = 1;
   double lo[2] = {0, 0}, hi[2] = {0, 0}, inv_h[2] = {1, 1};
   int n[2] = {1, 1};             // knots per axis
+  bool linear = false;           // extrapolation "linear" rather than the safeguard
   std::vector<double> coef;      // 1D: [n0-1][4] in u^k; 2D: [n0-1][n1-1][4][4] in u^k v^l
 };
 

@@ -40,6 +40,9 @@ void validate_baked(const BakedModel& m, const std::string& file) {
   for (const BakedTable& t : m.tables) {
     const std::string g = "/tables/" + t.term.name;
     const size_t d = t.dim();
+    if (t.extrapolation != kBakedSafeguard && t.extrapolation != kBakedLinear)
+      throw FileError(file, g, "attribute extrapolation must be 'safeguard' or 'linear', not '" +
+                                   t.extrapolation + "'");
     if (t.lower.size() != d || t.upper.size() != d || t.knots.size() != d)
       throw FileError(file, g, "attributes lower/upper/knots must have " + std::to_string(d) +
                                    " entries");
@@ -94,6 +97,7 @@ void write_baked(const std::string& path, const BakedModel& m) {
       g.set_attr("epochs", t.epochs);
       g.set_attr("backend", t.backend);
       g.set_attr("status", t.status);
+      g.set_attr("extrapolation", t.extrapolation);
       std::vector<hsize_t> dims;
       for (int k : t.knots) dims.push_back(hsize_t(k));
       g.write("f", t.f, dims);
@@ -160,6 +164,8 @@ BakedModel read_baked(const std::string& path) {
     t.epochs = static_cast<int>(g.attr_int("epochs"));
     t.backend = g.attr_string("backend");
     t.status = g.attr_string("status");
+    // Files written before the attribute existed all continue with the safeguard.
+    if (g.has_attr("extrapolation")) t.extrapolation = g.attr_string("extrapolation");
     if (t.knots.size() != size_t(term.dim()))
       g.fail(g.path(), "attribute knots must have " + std::to_string(term.dim()) + " entries");
     std::vector<hsize_t> dims;

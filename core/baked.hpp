@@ -8,7 +8,8 @@
 //                                  [areal_density (kg/m^2; absent: unknown)]
 //   /tables/<name>          attrs: indices, lower, upper, knots (int[d]), and as in the model
 //                                  file: activation, hidden, in_center, in_halfwidth, out_mean,
-//                                  out_std, epochs, backend, status
+//                                  out_std, epochs, backend, status,
+//                                  extrapolation ("safeguard" when absent, or "linear")
 //   1D  /tables/<name>/f, f_x                 float64 [n]        knot i at lower + i h
 //       attrs safeguard_lower, safeguard_upper  [a, b, c]: a s^2 + b s + c beyond that end
 //   2D  /tables/<name>/f, f_x, f_y, f_xy      float64 [n0, n1]   knot (i, j) at (x_i, y_j);
@@ -19,6 +20,12 @@
 //           edge (n the edge's own axis, not the outward normal) and ' along the edge
 //       /tables/<name>/safeguard/corner_<x>_<y>  ( <x>,<y> in lower|upper )  float64 [8]
 //           a00 a10 a01 a20 a11 a02 a21 a12, a_ij = d^(i+j) f / dx^i dy^j at the corner
+//
+// extrapolation = "linear" (tables fitted by `fit-splines`, HYLC's convention): outside the box
+// the table continues to first order only, i.e. the same stored coefficients with every
+// second-order part zero (1D a = 0; 2D edges g2 = g2' = 0; corners a20 = a02 = a21 = a12 = 0),
+// so the formulas of docs/bake.md evaluate it unchanged: f + f_n dn in an edge band and
+// f + f_x dx + f_y dy + f_xy dx dy in a corner.
 //
 // The safeguard coefficients are derived from the knots (the evaluator recomputes them and
 // checks that they agree); they are stored so that a reader without this library can
@@ -33,6 +40,9 @@
 
 namespace yarnhom {
 
+inline constexpr const char* kBakedSafeguard = "safeguard";
+inline constexpr const char* kBakedLinear = "linear";
+
 struct BakedTable {
   Term term;
   std::vector<double> lower, upper;  // [d] the box the table covers
@@ -44,6 +54,8 @@ struct BakedTable {
   Normalization norm;
   int epochs = 0;
   std::string backend, status;
+  // How the table continues outside its box: kBakedSafeguard (spec section 8) or kBakedLinear.
+  std::string extrapolation = kBakedSafeguard;
   // Safeguard coefficients. 1D: [a, b, c] per end. 2D: edges in the order x_lower, x_upper,
   // y_lower, y_upper ([n_along, 6] row-major), corners in the order (x lower, y lower),
   // (x upper, y lower), (x lower, y upper), (x upper, y upper) ([8] each).

@@ -20,10 +20,14 @@ void register_plot(CLI::App& app);   // tools/cmd_plot.cpp
 void register_pipeline(CLI::App& app);  // tools/cmd_pipeline.cpp
 void register_rve(CLI::App& app);       // tools/cmd_rve.cpp
 void register_produce(CLI::App& app);   // tools/cmd_produce.cpp
+void register_fit_splines(CLI::App& app);  // tools/cmd_fit_splines.cpp
+void register_accuracy(CLI::App& app);     // tools/cmd_accuracy.cpp
+void register_study_accuracy(CLI::App& app);  // tools/cmd_study.cpp: study table5, bake-resolution
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
   return {register_synth, register_train, register_eval, register_bake, register_error, register_plot,
-          register_pipeline, register_rve, register_produce};
+          register_pipeline, register_rve, register_produce, register_fit_splines, register_accuracy,
+          register_study_accuracy};
 }
 
 }  // namespace yarnhom::tools

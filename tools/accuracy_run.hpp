@@ -1,0 +1,47 @@
+#pragma once
+// The accuracy test as a function, shared by `accuracy` and the `study` subcommands
+// (defined in tools/cmd_accuracy.cpp).
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "accuracy/strip_metrics.hpp"
+
+namespace yarnhom::tools {
+
+struct AccuracyOptions {
+  std::string pattern, direction, out;
+  std::string preset = "quick";
+  std::string size = "0.05,0.10";
+  std::string stretch = "1.0:1.7:0.05";
+  std::string dataset, baked;  // reuse instead of producing / training + baking
+  std::string materials_dir;   // where dataset, model and baked files go (default: out)
+  std::string strip_dir;       // where the yarn strip goes (default: out/strip), to share it
+  int epochs = 0, threads = 0;
+  double spacing = 5e-4;       // Hausdorff surface sampling, metres
+  std::string strip_args, sim_args;
+  bool force = false;
+  bool spline = true;          // also the spline baseline
+};
+
+struct MaterialResult {
+  std::string name;  // "neural" or "spline"
+  std::string baked;
+  std::vector<StepMetrics> steps;
+  AccuracySummary summary;
+};
+
+struct AccuracyResult {
+  std::vector<double> stretch, n_yarn;
+  std::vector<MaterialResult> materials;
+  std::vector<std::pair<std::string, double>> stage_seconds;  // the stages that ran
+  double seconds = 0;
+};
+
+AccuracyResult run_accuracy(const AccuracyOptions& o);
+std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions& o);
+
+// Stretch ratios from "first:last:step" (inclusive of last up to rounding).
+std::vector<double> parse_stretch_range(const std::string& text);
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,281 @@
+// yarnhom accuracy: one pattern, one direction, end to end (supplement section 4.2, Table 5):
+// dataset -> networks -> baked material, the spline baseline on the same data, the yarn-level
+// strip and the continuum strip for both materials under the same clamps, and per stretch the
+// stress difference and the Hausdorff distance (docs/accuracy.md says exactly what).
+//
+// Every stage is a subcommand of this program run as a child process with its log, cached and
+// resumable like `pipeline` (tools/stage_runner.hpp); the metrics are computed here.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "accuracy/csv_columns.hpp"
+#include "core/atomic_file.hpp"
+#include "tools/accuracy_run.hpp"
+#include "tools/cli_util.hpp"
+#include "tools/commands.hpp"
+#include "tools/stage_runner.hpp"
+
+namespace yarnhom::tools {
+
+namespace fs = std::filesystem;
+
+std::vector<double> parse_stretch_range(const std::string& text) {
+  const size_t a = text.find(':'), b = text.find(':', a == std::string::npos ? a : a + 1);
+  if (a == std::string::npos || b == std::string::npos)
+    throw std::invalid_argument("--stretch " + text + ": expected first:last:step, e.g. 1.0:1.7:0.05");
+  const auto v = parse_numbers(text.substr(0, a) + "," + text.substr(a + 1, b - a - 1) + "," + text.substr(b + 1), "--stretch");
+  if (!(v[2] > 0) || !(v[1] >= v[0]) || !(v[0] > 0) || !std::isfinite(v[1]))
+    throw std::invalid_argument("--stretch " + text + ": need 0 < first <= last and step > 0");
+  std::vector<double> out;
+  for (int k = 0;; ++k) {
+    const double x = v[0] + k * v[2];
+    if (x > v[1] + 1e-9 * v[2]) break;
+    out.push_back(x);
+    if (k > 100000) throw std::invalid_argument("--stretch " + text + ": too many steps");
+  }
+  return out;
+}
+
+namespace {
+
+std::vector<std::string> split_spaces(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (c == ' ') {
+      if (!cur.empty()) out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(cur);
+  return out;
+}
+
+// The per-step OBJ files in a stage's output folder, in name order (the commands number their
+// steps with zero padding): exactly `n` are expected.
+std::vector<std::string> step_objs(const fs::path& folder, size_t n) {
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(folder))
+    if (e.is_regular_file() && e.path().extension() == ".obj") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  if (files.size() != n)
+    throw std::runtime_error(folder.string() + ": found " + std::to_string(files.size()) + " OBJ files, expected one per stretch step (" +
+                             std::to_string(n) + ")");
+  return files;
+}
+
+// stretch and tension (N/m) columns of a force curve.
+void read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
+  const CsvColumns t = read_csv_columns(path);
+  stretch = csv_column(t, {"stretch", "ratio", "lambda"}, path);
+  tension = csv_column(t, {"tension_N_per_m", "tension", "force_per_width", "N_per_m", "stress"}, path);
+}
+
+}  // namespace
+
+AccuracyResult run_accuracy(const AccuracyOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path dir(o.out);
+  fs::create_directories(dir);
+  AccuracyResult r;
+  auto stage = [&](const StageSpec& s) {
+    const StageOutcome out = run_stage(dir, s, o.force);
+    if (out.ran) r.stage_seconds.emplace_back(s.name, out.seconds);
+  };
+  std::vector<std::string> pattern_in;
+  if (fs::exists(o.pattern)) pattern_in.push_back(o.pattern);
+  const fs::path mdir = o.materials_dir.empty() ? dir : fs::path(o.materials_dir);
+  fs::create_directories(mdir);
+  // Stages that make materials keep their records beside them, so that several tests share them.
+  auto mstage = [&](const StageSpec& s) {
+    const StageOutcome out = run_stage(mdir, s, o.force);
+    if (out.ran) r.stage_seconds.emplace_back(s.name, out.seconds);
+  };
+  const std::string ds = o.dataset.empty() ? (mdir / "dataset.h5").string() : o.dataset;
+  if (o.dataset.empty()) {
+    std::vector<std::string> a = {"produce", o.pattern, "-o", ds, "--preset", o.preset};
+    if (o.threads > 0) { a.push_back("--threads"); a.push_back(std::to_string(o.threads)); }
+    mstage({"produce", a, pattern_in, {ds}});
+  }
+  std::string neural = o.baked;
+  if (neural.empty()) {
+    const std::string model = (mdir / "model.h5").string();
+    neural = (mdir / "neural.h5").string();
+    std::vector<std::string> a = {"train-all", ds, "-o", model, "-q"};
+    if (o.threads > 0) { a.push_back("--threads"); a.push_back(std::to_string(o.threads)); }
+    if (o.epochs > 0) { a.push_back("--epochs"); a.push_back(std::to_string(o.epochs)); }
+    mstage({"train-all", a, {ds}, {model}});
+    mstage({"bake", {"bake", model, "-o", neural, "--data", ds}, {model, ds}, {neural}});
+  }
+  r.materials.push_back({"neural", neural, {}, {}});
+  if (o.spline) {
+    const std::string spline = (mdir / "spline.h5").string();
+    mstage({"fit-splines", {"fit-splines", ds, "-o", spline}, {ds}, {spline}});
+    r.materials.push_back({"spline", spline, {}, {}});
+  }
+  const fs::path strip_dir = o.strip_dir.empty() ? dir / "strip" : fs::path(o.strip_dir);
+  const std::string strip_force = (strip_dir / "force.csv").string();
+  {
+    std::vector<std::string> a = {"strip", o.pattern, "--size", o.size, "--direction", o.direction,
+                                  "--stretch", o.stretch, "-o", strip_dir.string()};
+    for (const auto& x : split_spaces(o.strip_args)) a.push_back(x);
+    // The strip's record lives beside the strip, so that tests sharing it run it once.
+    const StageOutcome out = run_stage(strip_dir.parent_path(), {"strip-" + strip_dir.filename().string(), a, pattern_in, {strip_force}}, o.force);
+    if (out.ran) r.stage_seconds.emplace_back("strip", out.seconds);
+  }
+  for (MaterialResult& m : r.materials) {
+    const fs::path sd = dir / ("sim_" + m.name);
+    std::vector<std::string> a = {"sim", "stretch", "--material", m.baked, "--direction", o.direction,
+                                  "--size", o.size, "--stretch", o.stretch, "-o", sd.string()};
+    for (const auto& x : split_spaces(o.sim_args)) a.push_back(x);
+    stage({"sim-" + m.name, a, {m.baked}, {(sd / "force.csv").string()}});
+  }
+
+  // Metrics: step by step, the same stretch ratios in both force curves.
+  std::vector<double> ys, yt;
+  read_force(strip_force, ys, yt);
+  r.stretch = ys;
+  r.n_yarn = yt;
+  const auto yarn_objs = step_objs(strip_dir / "centrelines", ys.size());
+  for (MaterialResult& m : r.materials) {
+    const fs::path sd = dir / ("sim_" + m.name);
+    std::vector<double> cs, ct;
+    read_force((sd / "force.csv").string(), cs, ct);
+    if (cs.size() != ys.size())
+      throw std::runtime_error((sd / "force.csv").string() + ": " + std::to_string(cs.size()) + " steps, the yarn strip has " +
+                               std::to_string(ys.size()));
+    const auto objs = step_objs(sd / "frames", cs.size());
+    for (size_t k = 0; k < ys.size(); ++k) {
+      if (std::abs(cs[k] - ys[k]) > 1e-6)
+        throw std::runtime_error("step " + std::to_string(k) + ": stretch " + std::to_string(cs[k]) + " in " + sd.string() +
+                                 " but " + std::to_string(ys[k]) + " in the yarn strip");
+      m.steps.push_back(compare_step(yarn_objs[k], objs[k], ys[k], yt[k], ct[k], o.spacing));
+    }
+    m.summary = summarize(m.steps);
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // accuracy.csv: one row per stretch ratio.
+  {
+    AtomicOutput out((dir / "accuracy.csv").string());
+    {
+      std::ofstream f(out.temp_path());
+      f << "stretch,N_yarn";
+      for (const auto& m : r.materials)
+        f << ",N_" << m.name << ",dN_" << m.name << ",hausdorff_cm_" << m.name << ",hausdorff_points_cm_" << m.name
+          << ",hausdorff_surface_cm_" << m.name;
+      f << "\n";
+      char buf[64];
+      for (size_t k = 0; k < r.stretch.size(); ++k) {
+        std::snprintf(buf, sizeof buf, "%.4f,%.6g", r.stretch[k], r.n_yarn[k]);
+        f << buf;
+        for (const auto& m : r.materials) {
+          const StepMetrics& s = m.steps[k];
+          std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.6g,%.6g,%.6g", s.n_cont, s.stress_diff, 100 * s.hausdorff.symmetric,
+                        100 * s.hausdorff.points_to_surface, 100 * s.hausdorff.surface_to_points);
+          f << buf;
+        }
+        f << "\n";
+      }
+    }
+    out.commit();
+  }
+  {
+    AtomicOutput out((dir / "accuracy.md").string());
+    {
+      std::ofstream f(out.temp_path());
+      f << accuracy_report_text(r, o);
+    }
+    out.commit();
+  }
+  return r;
+}
+
+std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions& o) {
+  std::string s;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "\naccuracy %s, %s, strip %s m, stretch %s (%zu tests)\n\n", o.pattern.c_str(),
+                o.direction.c_str(), o.size.c_str(), o.stretch.c_str(), r.stretch.size());
+  s += buf;
+  s += "| stretch | N_yarn (N/m) |";
+  for (const auto& m : r.materials) s += " " + m.name + ": dN (N/m), H (cm) |";
+  s += "\n|---|---|";
+  for (size_t k = 0; k < r.materials.size(); ++k) s += "---|";
+  s += "\n";
+  for (size_t k = 0; k < r.stretch.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "| %.0f %% | %.3f |", 100 * r.stretch[k], r.n_yarn[k]);
+    s += buf;
+    for (const auto& m : r.materials) {
+      std::snprintf(buf, sizeof buf, " %.3f, %.3f |", m.steps[k].stress_diff, 100 * m.steps[k].hausdorff.symmetric);
+      s += buf;
+    }
+    s += "\n";
+  }
+  s += "\nmeans over the tests: stress difference (N/m), Hausdorff (cm), mean relative stress error (tests with "
+       "|N_yarn| >= 1 % of its largest), ratio of means\n";
+  for (const auto& m : r.materials) {
+    const AccuracySummary& a = m.summary;
+    std::snprintf(buf, sizeof buf, "  %-7s %.3f N/m, %.3f cm, %.2f %% (%d tests), %.2f %%\n", m.name.c_str(), a.mean_stress_diff,
+                  100 * a.mean_hausdorff, 100 * a.mean_rel_error, a.rel_tests, 100 * a.ratio_of_means);
+    s += buf;
+  }
+  std::snprintf(buf, sizeof buf, "total %s\n", format_seconds(r.seconds).c_str());
+  s += buf;
+  return s;
+}
+
+void register_accuracy(CLI::App& app) {
+  auto o = std::make_shared<AccuracyOptions>();
+  CLI::App* root = &app;
+  auto* cmd = app.add_subcommand(
+      "accuracy",
+      "The accuracy test of supplement section 4.2 for one pattern and direction: produce (or "
+      "reuse) the dataset, train-all and bake (or reuse) the neural material, fit-splines (the "
+      "HYLC-style baseline), the yarn-level strip (strip) and the continuum strip (sim stretch) "
+      "for both materials with the same clamps; then per stretch ratio the stress difference "
+      "(N/m) and the Hausdorff distance (cm) between the yarn centrelines and the continuum "
+      "surface, and their means with the mean relative stress error. Writes OUT/accuracy.csv and "
+      "OUT/accuracy.md. Every stage is cached and resumable (logs in OUT/logs).");
+  cmd->add_option("PATTERN", o->pattern, "Pattern (.pyp file or built-in name), as produce and strip take it")->required();
+  cmd->add_option("--direction", o->direction, "Stretch direction: course (x) or wale (y)")
+      ->required()
+      ->check(CLI::IsMember({"course", "wale"}));
+  cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
+  cmd->add_option("--preset", o->preset, "produce's sampling preset: quick or paper")
+      ->check(CLI::IsMember({"quick", "paper"}))
+      ->capture_default_str();
+  cmd->add_option("--size", o->size, "Strip width,length in metres (the paper: 0.05,0.10)")->capture_default_str();
+  cmd->add_option("--stretch", o->stretch, "Stretch ratios first:last:step (the paper: 1.0:1.7:0.05, 15 tests)")
+      ->capture_default_str();
+  cmd->add_option("--dataset", o->dataset, "Reuse this dataset instead of producing one")->check(CLI::ExistingFile);
+  cmd->add_option("--baked", o->baked, "Reuse this baked neural material instead of training and baking")->check(CLI::ExistingFile);
+  cmd->add_option("--epochs", o->epochs, "train-all's epochs per network (0: its default)")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Threads for produce and train-all (0: all cores)")->capture_default_str();
+  cmd->add_option("--spacing", o->spacing, "Surface sampling of the Hausdorff distance, metres")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--strip-args", o->strip_args, "Extra arguments for strip (one string, split at spaces)");
+  cmd->add_option("--sim-args", o->sim_args, "Extra arguments for sim stretch (one string, split at spaces)");
+  cmd->add_flag("--force", o->force, "Rerun every stage");
+  cmd->callback([o, root] {
+    for (const char* need : {"produce", "strip", "sim"}) {
+      if (std::string(need) == "produce" && !o->dataset.empty()) continue;
+      bool have = false;
+      for (CLI::App* sub : root->get_subcommands([](CLI::App*) { return true; })) have = have || sub->get_name() == need;
+      if (!have)
+        throw std::invalid_argument(std::string("this build has no '") + need +
+                                    "' command, which the accuracy test needs (docs/accuracy.md)");
+    }
+    const AccuracyResult r = run_accuracy(*o);
+    std::printf("%s", accuracy_report_text(r, *o).c_str());
+  });
+}
+
+}  // namespace yarnhom::tools
