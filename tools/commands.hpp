@@ -22,7 +22,7 @@ void register_rve(CLI::App& app);       // tools/cmd_rve.cpp
 void register_produce(CLI::App& app);   // tools/cmd_produce.cpp
 void register_fit_splines(CLI::App& app);  // tools/cmd_fit_splines.cpp
 void register_accuracy(CLI::App& app);     // tools/cmd_accuracy.cpp
-void register_study_accuracy(CLI::App& app);  // tools/cmd_study.cpp: study table5, bake-resolution
+void register_study_accuracy(CLI::App& app);  // tools/cmd_study.cpp: study table5, bake-resolution, rve-size
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
   return {register_synth, register_train, register_eval, register_bake, register_error, register_plot,
