@@ -328,6 +328,7 @@ BakedModel fit_splines(const Dataset& ds, const std::string& dataset_path, const
   m.dataset = dataset_path;
   m.psi0 = ds.psi0;
   m.psi0_known = true;
+  m.areal_density = ds.areal_density;  // the simulator's gravity and inertia, as bake carries it
   for (const Term& term : all_terms()) {
     const TermData* td = ds.find(term.name);
     if (!td) continue;

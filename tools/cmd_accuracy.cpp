@@ -75,7 +75,7 @@ std::vector<std::string> step_objs(const fs::path& folder, size_t n) {
 void read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
   const CsvColumns t = read_csv_columns(path);
   stretch = csv_column(t, {"stretch", "ratio", "lambda"}, path);
-  tension = csv_column(t, {"tension_N_per_m", "tension", "force_per_width", "N_per_m", "stress"}, path);
+  tension = csv_column(t, {"tension_N_per_m", "force_per_width_N_per_m"}, path);
 }
 
 }  // namespace
@@ -130,12 +130,17 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     const StageOutcome out = run_stage(strip_dir.parent_path(), {"strip-" + strip_dir.filename().string(), a, pattern_in, {strip_force}}, o.force);
     if (out.ran) r.stage_seconds.emplace_back("strip", out.seconds);
   }
+  // sim stretch: the paper's 5 cm x 10 cm strip from 100 % to 170 %, `--frames` load steps.
+  const std::vector<double> ratios = parse_stretch_range(o.stretch);
+  const int nsteps = int(ratios.size()) - 1;
+  if (ratios.size() < 2 || std::abs(ratios.front() - 1.0) > 1e-9 || std::abs(ratios.back() - 1.7) > 1e-9)
+    throw std::invalid_argument("--stretch " + o.stretch + ": sim stretch runs from 100 % to 170 %; give 1.0:1.7:STEP");
   for (MaterialResult& m : r.materials) {
     const fs::path sd = dir / ("sim_" + m.name);
-    std::vector<std::string> a = {"sim", "stretch", "--material", m.baked, "--direction", o.direction,
-                                  "--size", o.size, "--stretch", o.stretch, "-o", sd.string()};
+    std::vector<std::string> a = {"sim", "stretch", "-o", sd.string(), "--material", m.baked, "--direction", o.direction,
+                                  "--frames", std::to_string(nsteps), "-q"};
     for (const auto& x : split_spaces(o.sim_args)) a.push_back(x);
-    stage({"sim-" + m.name, a, {m.baked}, {(sd / "force.csv").string()}});
+    stage({"sim-" + m.name, a, {m.baked}, {(sd / "stretch.csv").string()}});
   }
 
   // Metrics: step by step, the same stretch ratios in both force curves.
@@ -147,9 +152,9 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   for (MaterialResult& m : r.materials) {
     const fs::path sd = dir / ("sim_" + m.name);
     std::vector<double> cs, ct;
-    read_force((sd / "force.csv").string(), cs, ct);
+    read_force((sd / "stretch.csv").string(), cs, ct);
     if (cs.size() != ys.size())
-      throw std::runtime_error((sd / "force.csv").string() + ": " + std::to_string(cs.size()) + " steps, the yarn strip has " +
+      throw std::runtime_error((sd / "stretch.csv").string() + ": " + std::to_string(cs.size()) + " steps, the yarn strip has " +
                                std::to_string(ys.size()));
     const auto objs = step_objs(sd / "frames", cs.size());
     for (size_t k = 0; k < ys.size(); ++k) {
@@ -251,8 +256,8 @@ void register_accuracy(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "produce's sampling preset: quick or paper")
       ->check(CLI::IsMember({"quick", "paper"}))
       ->capture_default_str();
-  cmd->add_option("--size", o->size, "Strip width,length in metres (the paper: 0.05,0.10)")->capture_default_str();
-  cmd->add_option("--stretch", o->stretch, "Stretch ratios first:last:step (the paper: 1.0:1.7:0.05, 15 tests)")
+  cmd->add_option("--size", o->size, "Yarn strip width,length in metres (the paper: 0.05,0.10; sim stretch's continuum strip is always 5 cm x 10 cm)")->capture_default_str();
+  cmd->add_option("--stretch", o->stretch, "Stretch ratios 1.0:1.7:STEP (the paper: 1.0:1.7:0.05, 15 tests; sim stretch runs 100 % to 170 %)")
       ->capture_default_str();
   cmd->add_option("--dataset", o->dataset, "Reuse this dataset instead of producing one")->check(CLI::ExistingFile);
   cmd->add_option("--baked", o->baked, "Reuse this baked neural material instead of training and baking")->check(CLI::ExistingFile);

@@ -7,6 +7,7 @@
 // registers first creates it.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <array>
@@ -81,6 +82,50 @@ void write_text(const fs::path& path, const std::string& text) {
   out.commit();
 }
 
+// A python3 with matplotlib and numpy ($YARNHOM_PYTHON, /usr/bin/python3, python3), or "".
+std::string plotting_python() {
+  std::vector<std::string> c;
+  if (const char* e = std::getenv("YARNHOM_PYTHON")) c.push_back(e);
+  c.push_back("/usr/bin/python3");
+  c.push_back("python3");
+  for (const std::string& p : c)
+    if (std::system(("'" + p + "' -c 'import matplotlib, numpy' >/dev/null 2>&1").c_str()) == 0) return p;
+  return "";
+}
+
+std::string plot_script(const std::string& name) {
+  if (const char* e = std::getenv("YARNHOM_SCRIPTS")) return std::string(e) + "/plot/" + name;
+#ifdef YARNHOM_SCRIPTS_DIR
+  return std::string(YARNHOM_SCRIPTS_DIR) + "/plot/" + name;
+#else
+  return "tools/plot/" + name;
+#endif
+}
+
+// Fig. 5: the yarn strip and the neural continuum strip at the step nearest 130 %, side by side.
+// Pictures are a bonus: a missing python or a failed plot is reported, not fatal.
+void fig5(const AccuracyResult& r, const AccuracyOptions& a, const std::string& title, const fs::path& png) {
+  size_t k = 0;
+  for (size_t j = 0; j < r.stretch.size(); ++j)
+    if (std::abs(r.stretch[j] - 1.3) < std::abs(r.stretch[k] - 1.3)) k = j;
+  char yname[32], cname[32];
+  std::snprintf(yname, sizeof yname, "step_%03zu.obj", k);
+  std::snprintf(cname, sizeof cname, "frame_%04zu.obj", k);
+  const fs::path ydir = a.strip_dir.empty() ? fs::path(a.out) / "strip" : fs::path(a.strip_dir);
+  const fs::path cdir = fs::path(a.out) / "sim_neural" / "frames";
+  const std::string py = plotting_python();
+  if (py.empty()) {
+    std::printf("  (no python3 with matplotlib: no %s)\n", png.string().c_str());
+    return;
+  }
+  const std::string cmd = shell_quote(py) + " " + shell_quote(plot_script("plot_fig5.py")) + " " +
+                          shell_quote((ydir / "centrelines" / "step_000.obj").string()) + " " +
+                          shell_quote((ydir / "centrelines" / yname).string()) + " " + shell_quote((cdir / "frame_0000.obj").string()) +
+                          " " + shell_quote((cdir / cname).string()) + " " + shell_quote(title) + " " + shell_quote(png.string()) +
+                          " > /dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0) std::printf("  (the Fig. 5 picture failed: %s)\n", cmd.c_str());
+}
+
 CLI::App* study_group(CLI::App& app) {
   for (CLI::App* s : app.get_subcommands([](CLI::App*) { return true; }))
     if (s->get_name() == "study") return s;
@@ -148,6 +193,7 @@ void register_study_accuracy(CLI::App& app) {
           a.out = (fs::path(o->out) / name / d).string();
           const AccuracyResult r = run_accuracy(a);
           std::printf("%s", accuracy_report_text(r, a).c_str());
+          fig5(r, a, name + " (" + d + "), 130 %: yarn level | continuum (neural)", fs::path(o->out) / ("fig5_" + name + "_" + d + ".png"));
           const auto it = paper_table5().find(name + "/" + d);
           for (const MaterialResult& m : r.materials) {
             const double* paper = nullptr;

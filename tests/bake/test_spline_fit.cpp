@@ -270,6 +270,7 @@ TEST(SplineFit, BakedFileRoundTripAndTamperCheck) {
   ds.pattern = "test";
   ds.source = "synthetic";
   ds.psi0 = 0.25;
+  ds.areal_density = 0.3;
   ds.terms.push_back(sample_1d("0", -0.2, 1.0, 21, [](double s) { return s * s; }, [](double s) { return 2 * s; }));
   ds.terms.push_back(sample_2d("01", -0.2, 1.0, -0.7, 0.7, 7, [](double x, double y, double& v, double& gx, double& gy) {
     v = x * y * y;
@@ -283,6 +284,7 @@ TEST(SplineFit, BakedFileRoundTripAndTamperCheck) {
   std::filesystem::remove(path);
   ASSERT_EQ(r.tables.size(), 2u);
   EXPECT_EQ(r.psi0, 0.25);
+  EXPECT_EQ(r.areal_density, 0.3);
   for (const BakedTable& t : r.tables) {
     EXPECT_EQ(t.extrapolation, kBakedLinear);
     EXPECT_NO_THROW(make_baked_term(t, path));
