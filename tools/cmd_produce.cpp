@@ -62,7 +62,7 @@ void run(const ProduceOpts& o) {
   opt.warm_start = !o.no_warm;
   opt.predictor = !o.no_predictor;
   opt.free_period = !o.fixed_period;
-  if (!o.material.empty()) opt.material = yarn::read_material(o.material);
+  if (!o.material.empty()) opt.material = yarn::load_material(o.material);
   if (!o.ranges.empty()) opt.ranges = read_ranges(o.ranges);
   opt.checkpoint = o.out + ".partial";
   const bool tty = stderr_is_tty();
@@ -136,7 +136,9 @@ void register_produce(CLI::App& app) {
   cmd->add_flag("--fixed-period", o->fixed_period,
                 "Keep the pattern's own tile period at s = 0 (a pre-stressed rest, as before the stress-free "
                 "rest; for comparison). Default: the period relaxes and s = 0 is the stress-free tile");
-  cmd->add_option("--material", o->material, "Material file (docs/yarn_material.md)")->check(CLI::ExistingFile);
+  cmd->add_option("--material", o->material,
+                  "Yarn material: a file of 'key = value' lines, or a built-in name: hylc-calibrated (the default), "
+                  "yarnhom-2025 (the constants before issue 10); docs/yarn_material.md");
   cmd->add_option("--ranges", o->ranges, "Sampling boxes: 'index lower upper' lines")->check(CLI::ExistingFile);
   cmd->callback([o] { run(*o); });
 }

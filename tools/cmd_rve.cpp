@@ -19,7 +19,7 @@ namespace yarnhom::tools {
 namespace {
 
 struct RveOpts {
-  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify;
+  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify, tile = "1,1";
   bool json = false, verbose = false, fixed_period = false, no_ccd = false;
   double tolerance = 1e-10;
   int max_iterations = 200;
@@ -65,8 +65,13 @@ void run(const RveOpts& o) {
   yarn::Strain s = Eigen::Map<const yarn::Strain>(sv.data());
   if (!(s[0] > -1 && s[2] > -1 && std::abs(s[1]) < 1))
     throw std::invalid_argument("--strain: need s_x > -1, s_y > -1 and |s_a| < 1");
-  const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::read_material(o.material);
-  const yarn::Pattern pattern = load_pattern(o.pattern);
+  const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::load_material(o.material);
+  const std::vector<double> tv = parse_numbers(o.tile, "--tile");
+  if (tv.size() != 2 || tv[0] < 1 || tv[1] < 1 || tv[0] != std::floor(tv[0]) || tv[1] != std::floor(tv[1]))
+    throw std::invalid_argument("--tile: expected two positive integers NX,NY, got '" + o.tile + "'");
+  const int nx = int(tv[0]), ny = int(tv[1]);
+  const yarn::Pattern base = load_pattern(o.pattern);
+  const yarn::Pattern pattern = nx * ny > 1 ? yarn::tile(base, nx, ny) : base;
   if (!o.certify.empty()) {
     const yarn::RveProblem rve(pattern, mat, yarn::RveOptions{}, yarn::read_state_reference(o.certify));
     return certify(o, rve);
@@ -97,9 +102,12 @@ void run(const RveOpts& o) {
     ro.solve.max_iterations = std::max(opt.max_iterations, 200);  // --max-iterations is for the strain
     ro.verbose = o.verbose;
     ro.record_path = !o.out.empty();
-    yarn::RestTile tile = yarn::relax_tile(pattern, mat, ro);
-    rve = std::make_unique<yarn::RveProblem>(std::move(tile.rve));
-    st = std::move(tile.state);
+    // A tiling is the same material on a larger RVE: its rest is the pattern's relaxed rest
+    // repeated, in the same reference (a cold relaxation of the larger tile could find another
+    // local minimum, which is not what a tile-size study compares).
+    yarn::RestTile tile = yarn::relax_tile(base, mat, ro);
+    rve = std::make_unique<yarn::RveProblem>(pattern, mat, yarn::RveOptions{}, tile.rve.reference());
+    st = yarn::tile_state(tile.state, nx * ny);
     rest = tile.report;
     relaxed = true;
     if (!o.pattern_out.empty()) {
@@ -193,7 +201,9 @@ void register_rve(CLI::App& app) {
       "certificate. Exit status 2 when the solve does not converge, 3 when the result is not certified.");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("--strain", o->strain, "s_x,s_a,s_y,II_x,II_a,II_y (II in 1/m; default 0,0,0,0,0,0)");
-  cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
+  cmd->add_option("--material", o->material,
+                  "Yarn material: a file of 'key = value' lines, or a built-in name: hylc-calibrated (the default), "
+                  "yarnhom-2025 (the constants before issue 10); docs/yarn_material.md");
   cmd->add_option("--out", o->out, "Write the equilibrium state (HDF5)");
   cmd->add_option("--obj", o->obj, "Write a tube mesh of the yarns (OBJ)");
   cmd->add_option("--pattern-out", o->pattern_out,
@@ -205,6 +215,10 @@ void register_rve(CLI::App& app) {
   cmd->add_flag("--fixed-period", o->fixed_period,
                 "Relax the yarns at the pattern's own period only (the tile stays pre-stressed: dPsi/ds(0) != 0); "
                 "default: the period relaxes too and s = 0 is the stress-free tile");
+  cmd->add_option("--tile", o->tile,
+                  "NX,NY: solve the pattern tiled NX x NY times, from its relaxed rest repeated (a larger RVE of "
+                  "the same material: in-plane strains give the same Psi, curvature shows the map's tile-size "
+                  "dependence; docs/rve.md section 2)");
   cmd->add_option("--tolerance", o->tolerance, "Relative residual to converge to (default 1e-10)");
   cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations at most (default 200)");
   cmd->add_flag("--json", o->json,

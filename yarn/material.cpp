@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 
@@ -64,6 +66,41 @@ std::string format_material(const Material& m) {
     << "\ncontact_stiffness = " << m.contact_stiffness
     << "\nslide_constraint = " << (m.slide_constraint ? "true" : "false") << "\n";
   return o.str();
+}
+
+}  // namespace yarnhom::yarn
+
+namespace yarnhom::yarn {
+
+std::vector<std::string> builtin_material_names() { return {"hylc-calibrated", "yarnhom-2025"}; }
+
+bool is_builtin_material(const std::string& name) {
+  for (const auto& n : builtin_material_names())
+    if (n == name) return true;
+  return false;
+}
+
+Material builtin_material(const std::string& name) {
+  if (name == "hylc-calibrated") return Material{};
+  if (name == "yarnhom-2025") {
+    Material m;
+    m.young = 1.0e6;
+    m.shear = 1.0e6 / 3.0;
+    m.density = 1.2e3;
+    m.contact_stiffness = 1.0e6;
+    return m;
+  }
+  std::string names;
+  for (const auto& n : builtin_material_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown material '" + name + "' (built-in: " + names + ")");
+}
+
+Material load_material(const std::string& what) {
+  if (std::filesystem::exists(what)) return read_material(what);
+  if (is_builtin_material(what)) return builtin_material(what);
+  std::string names;
+  for (const auto& n : builtin_material_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("material '" + what + "' is neither a file nor a built-in material (" + names + ")");
 }
 
 }  // namespace yarnhom::yarn

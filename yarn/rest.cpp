@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numeric>
 #include <stdexcept>
+#include <type_traits>
 
 namespace yarnhom::yarn {
 
@@ -58,6 +59,26 @@ RveState carry_to_reference(const RveState& st, const Strain& s) {
   // when recorded, all of them.
   out.anchor = carry_point(st.anchor, s);
   for (auto& p : out.path) p = carry_point(p, s);
+  return out;
+}
+
+RveState tile_state(const RveState& st, int copies) {
+  auto repeat = [copies](const auto& v) {
+    std::decay_t<decltype(v)> out;
+    out.reserve(v.size() * copies);
+    for (int c = 0; c < copies; ++c) out.insert(out.end(), v.begin(), v.end());
+    return out;
+  };
+  RveState out;
+  out.u = repeat(st.u);
+  out.theta = repeat(st.theta);
+  out.frames.edge = repeat(st.frames.edge);
+  out.frames.twist = repeat(st.frames.twist);
+  // The checked path repeats too (the same configurations of every copy: by periodicity the
+  // closest distances the certificate found are those of the larger tile).
+  out.certificate = st.certificate;
+  out.anchor = {st.anchor.s, repeat(st.anchor.u)};
+  for (const PathPoint& p : st.path) out.path.push_back({p.s, repeat(p.u)});
   return out;
 }
 

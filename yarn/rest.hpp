@@ -79,6 +79,12 @@ struct RestTile {
 RestTile relax_tile(const Pattern& pattern, const Material& material, const RestOptions& opt = {},
                     const RveOptions& rve_options = {});
 
+// A state repeated over the copies of tile(pattern, nx, ny) (whose vertices are the
+// pattern's, copy after copy): the same configuration in the larger tile. With the same
+// reference map, the relaxed rest of a pattern repeated is the rest of its tiling (an RVE-size
+// study compares the two under the same strain).
+RveState tile_state(const RveState& state, int copies);
+
 // The in-plane stress measure of RestReport::stress for a dE/ds.
 double relative_stress(const RveProblem& rve, const Strain& dEds);
 

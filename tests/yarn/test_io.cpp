@@ -33,6 +33,33 @@ TEST(Material, ParsesAndRefusesWithLineNumbers) {
   EXPECT_NE(msg("young 1e6\n").find("m.txt: line 1: expected 'key = value'"), std::string::npos);
 }
 
+// The named materials: the files in yarn/materials are the built-ins (the default is
+// hylc-calibrated), a file path wins over a name, and anything else is refused naming the
+// built-in names.
+TEST(Material, NamedMaterialsAreTheFilesInTheRepository) {
+  const std::string dir = std::string(YARNHOM_SOURCE_DIR) + "/yarn/materials/";
+  for (const std::string& name : builtin_material_names()) {
+    const Material a = builtin_material(name), b = read_material(dir + name + ".txt");
+    EXPECT_DOUBLE_EQ(a.young, b.young) << name;
+    EXPECT_DOUBLE_EQ(a.shear, b.shear) << name;
+    EXPECT_DOUBLE_EQ(a.density, b.density) << name;
+    EXPECT_DOUBLE_EQ(a.contact_stiffness, b.contact_stiffness) << name;
+    EXPECT_EQ(a.slide_constraint, b.slide_constraint) << name;
+    EXPECT_DOUBLE_EQ(load_material(name).young, a.young);
+  }
+  EXPECT_DOUBLE_EQ(Material{}.young, builtin_material("hylc-calibrated").young);
+  EXPECT_DOUBLE_EQ(builtin_material("yarnhom-2025").young, 1.0e6);
+  EXPECT_DOUBLE_EQ(load_material(dir + "yarnhom-2025.txt").density, 1.2e3);
+  try {
+    load_material("cotton");
+    FAIL() << "accepted an unknown material";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'cotton' is neither a file nor a built-in material (hylc-calibrated, yarnhom-2025)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(StateIo, WrittenStateWarmStartsAtItsOwnEquilibrium) {
   const RveProblem rve(generate_stockinette({}), Material{});
   RveState st = rve.initial_state();

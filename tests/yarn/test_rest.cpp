@@ -140,18 +140,23 @@ TEST(Rest, TheFixedPeriodTileIsPreStressedTheRelaxedOneIsNot) {
   EXPECT_GT(std::abs(rb.grad[3]) + std::abs(rb.grad[5]), 0.0);
 }
 
-// The period relaxation is a property of the material, not of the tile chosen: the 2 x 1
-// tiling relaxes by the same strain to the same Psi0, and the pattern turned by 90 degrees
-// relaxes by the turned strain (s_x <-> s_y, s_a -> -s_a).
+// The period relaxation is a property of the material, not of the tile chosen: the relaxed
+// tile repeated 2 x 1 (same reference map) is stress free in the 2 x 1 RVE with the same Psi0;
+// and the pattern turned by 90 degrees relaxes by the turned strain (s_x <-> s_y, s_a -> -s_a)
+// to the same Psi0. (A cold relaxation of the 2 x 1 tile itself may find a lower, period-
+// doubled state with the default material: stocktiny 1.1044 against 1.1090 J/m^2.)
 TEST(Rest, RelaxationDoesNotDependOnTheTileNorOnItsOrientation) {
   const Pattern p = small_knit();
   const RestTile one = relax_tile(p, Material{});
-  const RestTile two = relax_tile(tile(p, 2, 1), Material{});
+  const RveProblem two(tile(p, 2, 1), Material{}, RveOptions{}, one.rve.reference());
+  const RveState st2 = tile_state(one.state, 2);
+  const DensityResult r1 = evaluate_density(one.rve, Strain::Zero(), one.state);
+  const DensityResult r2 = evaluate_density(two, Strain::Zero(), st2);
+  EXPECT_NEAR(r2.psi, r1.psi, 1e-12 * r1.psi);
+  EXPECT_LT(r2.report.residual, 1e-10) << "an equilibrium of the larger tile";
+  EXPECT_LT(r2.grad.head<3>().norm(), 1e-6) << "stress free in the larger tile";
   const RestTile turned = relax_tile(rotated90(p), Material{});
-  const double psi1 = evaluate_density(one.rve, Strain::Zero(), one.state).psi;
-  EXPECT_NEAR(evaluate_density(two.rve, Strain::Zero(), two.state).psi, psi1, 1e-9 * psi1);
-  EXPECT_LT((two.report.strain - one.report.strain).norm(), 1e-7);
-  EXPECT_NEAR(evaluate_density(turned.rve, Strain::Zero(), turned.state).psi, psi1, 1e-9 * psi1);
+  EXPECT_NEAR(evaluate_density(turned.rve, Strain::Zero(), turned.state).psi, r1.psi, 1e-9 * r1.psi);
   const Eigen::Vector3d st = one.report.strain;
   EXPECT_LT((turned.report.strain - Eigen::Vector3d(st[2], -st[1], st[0])).norm(), 1e-7);
 }
@@ -188,8 +193,8 @@ TEST(Rest, ArealDensityIsYarnMassOverTheReferenceArea) {
   const double expected = 120 * M_PI * p.radius * p.radius * L / (t.rve.lattice().determinant());
   EXPECT_NEAR(areal_density(t.rve), expected, 1e-12 * expected);
   // Twice the tile, twice the yarn: the same areal density.
-  const RestTile two = relax_tile(tile(p, 2, 1), m);
-  EXPECT_NEAR(areal_density(two.rve), expected, 1e-8 * expected);
+  const RveProblem two(tile(p, 2, 1), m, RveOptions{}, t.rve.reference());
+  EXPECT_NEAR(areal_density(two), expected, 1e-12 * expected);
 }
 
 // The acceptance check of issue 10 on the generated stockinette and the paper's four patterns

@@ -181,19 +181,28 @@ TEST(Rve, RelaxedRestIsAnEquilibriumAndALocalMinimum) {
     }
 }
 
+// The 1 x 1 equilibrium repeated over a 2 x 1 tile is an equilibrium of the 2 x 1 RVE with the
+// same Psi and dPsi/ds (periodicity is implemented right). We start the larger tile from the
+// repeated state rather than cold: with the default material the larger tile has other,
+// lower minima that the small one cannot represent (stocktiny at rest: Psi 1.20564 against
+// 1.20575 J/m^2 cold from the pattern, a period-doubled state; docs/rve.md section 6), and
+// which minimum a cold solve finds is not what this test is about.
 TEST(Rve, TwoByOneTilingGivesTheSamePsi) {
   const Pattern p = small_knit();
   const RveProblem one(p, Material{}), two(tile(p, 2, 1), Material{});
-  RveState a = one.initial_state(), b = two.initial_state();
+  RveState a = one.initial_state();
   for (const Strain& s : {Strain(Strain::Zero()), strain(0.2, 0.1, -0.05, 0, 0, 0), strain(0.1, 0, 0.1, 30, 0, 0)}) {
-    const DensityResult ra = energy_density(one, s, a), rb = energy_density(two, s, b);
+    const DensityResult ra = energy_density(one, s, a);
+    RveState b = tile_state(a, 2);
+    const DensityResult rb = energy_density(two, s, b);
     ASSERT_TRUE(ra.report.converged() && rb.report.converged());
-    // Flat strains: identical up to the solver tolerance. With curvature the quadratic
-    // mid-surface's metric drifts away from the centre (docs/rve.md), so a tile twice as
-    // wide sees slightly different strains: a looser bound.
-    const double tol = s.tail<3>().isZero() ? 1e-8 : 2e-2;
-    EXPECT_NEAR(rb.psi, ra.psi, tol * ra.psi) << s.transpose();
-    if (s.tail<3>().isZero()) {
+    // Flat strains: the same equilibrium (no Newton step needed), identical up to round-off.
+    // With curvature the mid-surface's metric drifts away from the centre (docs/rve.md
+    // section 2), so a tile twice as wide sees slightly different strains: a looser bound.
+    const bool flat = s.tail<3>().isZero();
+    EXPECT_NEAR(rb.psi, ra.psi, (flat ? 1e-8 : 2e-2) * ra.psi) << s.transpose();
+    if (flat) {
+      EXPECT_LE(rb.report.iterations, 1) << s.transpose();
       EXPECT_LT((rb.grad - ra.grad).norm(), 1e-6 * ra.grad.norm());
     }
   }
@@ -208,14 +217,19 @@ TEST(Rve, EnvelopeGradientMatchesFiniteDifferencesOfPsi) {
   const DensityResult r = energy_density(rve, s0, st, opt);
   ASSERT_TRUE(r.report.converged());
   for (int k = 0; k < 6; ++k) {
+    // Richardson-extrapolated central differences (steps h and h/2): O(h^4), so that the
+    // comparison does not depend on how curved Psi is at this strain.
     const double h = k < 3 ? 1e-4 : 0.1;
-    Strain sp = s0, sm = s0;
-    sp[k] += h;
-    sm[k] -= h;
-    RveState a = st, b = st;
-    const DensityResult rp = energy_density(rve, sp, a, opt), rm = energy_density(rve, sm, b, opt);
-    ASSERT_TRUE(rp.report.converged() && rm.report.converged());
-    const double fd = (rp.psi - rm.psi) / (2 * h);
+    auto central = [&](double step) {
+      Strain sp = s0, sm = s0;
+      sp[k] += step;
+      sm[k] -= step;
+      RveState a = st, b = st;
+      const DensityResult rp = energy_density(rve, sp, a, opt), rm = energy_density(rve, sm, b, opt);
+      EXPECT_TRUE(rp.report.converged() && rm.report.converged());
+      return (rp.psi - rm.psi) / (2 * step);
+    };
+    const double fd = (4 * central(h / 2) - central(h)) / 3;
     EXPECT_NEAR(r.grad[k], fd, 1e-7 * r.grad.norm() + 1e-6 * std::abs(fd)) << "component " << k;
   }
 }

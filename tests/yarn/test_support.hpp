@@ -6,6 +6,7 @@
 #include <string>
 
 #include "yarn/pattern.hpp"
+#include "yarn/rest.hpp"
 
 namespace yarnhom::yarn::testing {
 
