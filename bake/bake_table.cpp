@@ -1,5 +1,6 @@
 #include "bake/bake_table.hpp"
 
+#include <cstdio>
 #include <stdexcept>
 
 #include "core/jet_layout.hpp"
@@ -8,7 +9,7 @@ namespace yarnhom {
 
 BakedTable bake_function(const Term& term, const std::vector<double>& lower,
                          const std::vector<double>& upper, const std::vector<int>& knots,
-                         const TermFunction& f) {
+                         const TermFunction& f, BakeReport* report, bool repair) {
   const int d = term.dim();
   if (lower.size() != size_t(d) || upper.size() != size_t(d) || knots.size() != size_t(d))
     throw std::invalid_argument("bake '" + term.name + "': box or knot counts of the wrong size");
@@ -44,14 +45,17 @@ BakedTable bake_function(const Term& term, const std::vector<double>& lower,
     t.f_y = channel(2);
     t.f_xy = channel(jet_ch2(2, 0, 1));
   }
-  compute_safeguard(t);
+  BakeReport rep;
+  if (repair) rep.repair = repair_boundary(t);
+  compute_safeguard(t, &rep.departures);
+  if (report) *report = rep;
   return t;
 }
 
-BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d) {
+BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d, BakeReport* report, bool repair) {
   const int d = net.term.dim();
   std::vector<int> knots(d, d == 1 ? res1d : res2d);
-  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, network_function(net));
+  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, network_function(net), report, repair);
   t.desc = net.desc;
   t.norm = net.norm;
   t.epochs = net.epochs;
@@ -61,15 +65,76 @@ BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d) {
 }
 
 BakedModel bake_model(const Model& model, const std::string& model_path, int res1d, int res2d,
-                      double psi0, bool psi0_known) {
+                      double psi0, bool psi0_known, std::vector<BakeReport>* reports) {
   BakedModel b;
   b.model = model_path;
   b.dataset = model.dataset;
   b.psi0 = psi0;
   b.psi0_known = psi0_known;
   b.areal_density = model.areal_density;
-  for (const ModelNetwork& net : model.networks) b.tables.push_back(bake_network(net, res1d, res2d));
+  if (reports) reports->clear();
+  for (const ModelNetwork& net : model.networks) {
+    BakeReport r;
+    b.tables.push_back(bake_network(net, res1d, res2d, &r));
+    if (reports) reports->push_back(r);
+  }
   return b;
+}
+
+}  // namespace yarnhom
+
+namespace yarnhom {
+
+std::string BakeReport::summary(const BakedTable& t) const {
+  static const char* k1d[2] = {"lower end", "upper end"};
+  static const char* k2d[4] = {"x lower edge", "x upper edge", "y lower edge", "y upper edge"};
+  std::string out;
+  char buf[256];
+  auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
+  const bool one = t.dim() == 1;
+  for (size_t k = 0; k < repair.sides.size(); ++k) {
+    const SideRepair& r = repair.sides[k];
+    const char* name = one ? k1d[k] : k2d[k];
+    if (r.repaired) {
+      if (one) std::snprintf(buf, sizeof buf, "%s: inward slope raised to 0 (by %.3g)", name, r.max_slope_raise);
+      else std::snprintf(buf, sizeof buf, "%s: inward slope raised at %d of %d knots (by up to %.3g)", name, r.repaired,
+                         r.knots, r.max_slope_raise);
+      add(buf);
+    }
+    if (r.curvature_raised) add(std::string(name) + ": negative curvature raised to 0 in the table");
+  }
+  if (repair.changed() && repair.max_change > 1e-12 * repair.range) {
+    std::snprintf(buf, sizeof buf, "table changed in the outer %.0f%% by at most %.2g (%.2g%% of its range)",
+                  100 * repair.layer_fraction, repair.max_change,
+                  repair.range > 0 ? 100 * repair.max_change / repair.range : 0.0);
+    add(buf);
+  }
+  for (size_t k = 0; k < departures.sides.size(); ++k) {
+    const SafeguardDepartures::Side& d = departures.sides[k];
+    const char* name = one ? k1d[k] : k2d[k];
+    if (d.curvature_raised) {
+      if (one) std::snprintf(buf, sizeof buf, "%s: negative curvature continued as 0", name);
+      else std::snprintf(buf, sizeof buf, "%s: band curvature raised to 0 at %d of %d knots", name, d.curvature_raised,
+                         d.knots);
+      add(buf);
+    }
+    if (d.slope_limited) {
+      std::snprintf(buf, sizeof buf, "%s: band curvature limited at %d knots to stay >= 0 between them", name,
+                    d.slope_limited);
+      add(buf);
+    }
+  }
+  if (departures.corner_cubics_dropped) {
+    std::snprintf(buf, sizeof buf, "%d corner cubic term(s) set to 0 (curvature falling toward the corner)",
+                  departures.corner_cubics_dropped);
+    add(buf);
+  }
+  if (departures.corners_convexified) {
+    std::snprintf(buf, sizeof buf, "%d corner(s) with the curvatures raised to keep the corner convex outward",
+                  departures.corners_convexified);
+    add(buf);
+  }
+  return out.empty() ? "the paper's continuation" : out;
 }
 
 }  // namespace yarnhom

@@ -88,6 +88,25 @@ void axis_weights(bool outside, double dx, double w[4][4], int p = 2) {
     }
 }
 
+// The band curvature of edge e (x_lower, x_upper, y_lower, y_upper) and its first three
+// derivatives along the edge at coordinate y (inside the edge's range): the cubic Hermite
+// spline through the stored (K_j, K'_j).
+void band_derivs(const BakedTerm& t, int e, double y, double out[4]) {
+  const int along = e < 2 ? 1 : 0;
+  double u;
+  const int i = locate(t, along, y, u);
+  const double h = 1.0 / t.inv_h[along];
+  const double* b = t.band[e].data() + 2 * size_t(i);
+  const double g[4] = {b[0], h * b[1], b[2], h * b[3]};
+  double c[4];
+  for (int k = 0; k < 4; ++k) c[k] = kM[k][0] * g[0] + kM[k][1] * g[1] + kM[k][2] * g[2] + kM[k][3] * g[3];
+  double p[4][4];
+  power_derivs(u, p);
+  double sc = 1;
+  for (int a = 0; a < 4; ++a, sc *= t.inv_h[along])
+    out[a] = sc * (p[a][0] * c[0] + p[a][1] * c[1] + p[a][2] * c[2] + p[a][3] * c[3]);
+}
+
 int side(const BakedTerm& t, int k, double x) { return x < t.lo[k] ? -1 : x > t.hi[k] ? 1 : 0; }
 
 // Builds the per-cell coefficients; no safeguard check.
@@ -154,48 +173,195 @@ void check_close(const std::string& what, double stored, double computed, double
   throw std::invalid_argument((file.empty() ? "" : file + ": ") + "/tables/" + tb.term.name +
                               ": stored safeguard coefficient " + what + " = " +
                               std::to_string(stored) + " disagrees with the knots (" +
-                              std::to_string(computed) + "); the file is corrupt or was edited");
+                              std::to_string(computed) + "); the file is corrupt or was edited, or "
+                              "was baked by a yarnhom older than the safeguard that rises outward by "
+                              "construction (docs/bake.md): bake the model again");
 }
 
 }  // namespace
 
-void compute_safeguard(BakedTable& tb) {
+bool SafeguardDepartures::any() const {
+  if (corners_convexified || corner_cubics_dropped) return true;
+  for (const Side& s : sides)
+    if (s.curvature_raised || s.slope_limited) return true;
+  return false;
+}
+
+namespace {
+
+// Minimum over [0, 1] of the cubic Hermite piece through values v0, v1 with end slopes m0, m1
+// (already scaled by the piece's length).
+double piece_min(double v0, double m0, double v1, double m1) {
+  const double a1 = m0, a2 = -3 * v0 - 2 * m0 + 3 * v1 - m1, a3 = 2 * v0 + m0 - 2 * v1 + m1;
+  auto p = [&](double u) { return v0 + u * (a1 + u * (a2 + u * a3)); };
+  double lo = std::min(v0, v1);
+  const double A = 3 * a3, B = 2 * a2, C = a1;
+  if (A == 0) {
+    if (B != 0 && -C / B > 0 && -C / B < 1) lo = std::min(lo, p(-C / B));
+  } else if (B * B - 4 * A * C >= 0) {
+    const double sq = std::sqrt(B * B - 4 * A * C);
+    for (double u : {(-B + sq) / (2 * A), (-B - sq) / (2 * A)})
+      if (u > 0 && u < 1) lo = std::min(lo, p(u));
+  }
+  return lo;
+}
+
+// The band curvature of one edge from the table's d2f/dn2 (K) and its derivative along the edge
+// (Kp) at the edge's knots, clamped so that the band rises outward (see the header): K >= 0;
+// at the two end knots K' points outward toward the corner (K'_0 <= 0, K'_{m-1} >= 0); then,
+// on every Hermite piece that still dips below 0, its knots are limited: an interior knot's
+// slope to |h K'| <= 3 K, an end knot's value raised to K >= h |K'| / 3 (its slope is fixed by
+// the corner), which makes the piece non-negative.
+// The size below which a clamp only removes rounding noise, and is not reported as a departure:
+// 1e-9 of the edge's largest |curvature| (slopes: per unit length h).
+double band_noise(const std::vector<double>& K) {
+  double s = 0;
+  for (double k : K) s = std::max(s, std::abs(k));
+  return 1e-9 * s;
+}
+
+void clamp_band(std::vector<double>& K, std::vector<double>& Kp, double h, SafeguardDepartures::Side* dep, int* cubics) {
+  const int m = int(K.size());
+  const double noise = band_noise(K);
+  for (int j = 0; j < m; ++j) {
+    if (K[j] < 0) {
+      if (dep && K[j] < -noise) ++dep->curvature_raised;
+      K[j] = 0;
+    }
+  }
+  if (Kp[0] > 0) {
+    if (h * Kp[0] > noise) ++*cubics;
+    Kp[0] = 0;
+  }
+  if (Kp[m - 1] < 0) {
+    if (-h * Kp[m - 1] > noise) ++*cubics;
+    Kp[m - 1] = 0;
+  }
+}
+
+void make_band_nonnegative(std::vector<double>& K, std::vector<double>& Kp, double h, SafeguardDepartures::Side* dep) {
+  const int m = int(K.size());
+  std::vector<char> done(m, 0);
+  const double noise = band_noise(K);
+  auto limit = [&](int j) {
+    if (done[j]) return;
+    done[j] = 1;
+    const double K0 = K[j], Kp0 = Kp[j];
+    if (j == 0) K[j] = std::max(K[j], -h * Kp[j] / 3);
+    else if (j == m - 1) K[j] = std::max(K[j], h * Kp[j] / 3);
+    else Kp[j] = std::clamp(Kp[j], -3 * K[j] / h, 3 * K[j] / h);
+    if (dep && (std::abs(K[j] - K0) > noise || h * std::abs(Kp[j] - Kp0) > noise)) ++dep->slope_limited;
+  };
+  for (bool again = true; again;) {
+    again = false;
+    for (int j = 0; j + 1 < m; ++j) {
+      if (done[j] && done[j + 1]) continue;
+      if (piece_min(K[j], h * Kp[j], K[j + 1], h * Kp[j + 1]) < 0) {
+        limit(j);
+        limit(j + 1);
+        again = true;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void compute_safeguard(BakedTable& tb, SafeguardDepartures* dep) {
   const BakedTerm t = build(tb);
+  if (dep) *dep = {};
   if (t.dim == 1) {
     for (int e = 0; e < 2; ++e) {
       const double X = e == 0 ? t.lo[0] : t.hi[0];
       double D[4];
       partials_1d(t, X, D);
-      // The paper's form a s^2 + b s + c of the quadratic matching f, f', f'' at X (a = 0 for a
-      // linear table: the tangent).
-      const double a = t.linear ? 0.0 : 0.5 * D[2], b = D[1] - 2 * a * X, c = D[0] - a * X * X - b * X;
+      // The paper's form a s^2 + b s + c of the quadratic matching f, f' and the curvature at
+      // X; a negative curvature (only possible without bake's boundary repair) is continued
+      // as 0, which costs C2 but never lets the energy turn down. A linear table continues
+      // with its tangent (a = 0).
+      SafeguardDepartures::Side side;
+      side.knots = 1;
+      double gmax = 0;
+      for (double g : tb.f_x) gmax = std::max(gmax, std::abs(g));
+      if (!t.linear && D[2] < -1e-9 * gmax * t.inv_h[0]) side.curvature_raised = 1;
+      const double a = t.linear ? 0.0 : 0.5 * std::max(D[2], 0.0), b = D[1] - 2 * a * X, c = D[0] - a * X * X - b * X;
       (e == 0 ? tb.safeguard_lower : tb.safeguard_upper) = {a, b, c};
+      if (dep) dep->sides.push_back(side);
     }
     return;
   }
+  // Per edge: g0, g0', g1, g1' from the table; the band curvature K, K' clamped.
+  std::array<std::vector<double>, 4> K, Kp;
+  std::vector<SafeguardDepartures::Side> sides(4);
+  int cubics = 0;
   for (int e = 0; e < 4; ++e) {
     const int axis = e / 2, along = 1 - axis;  // the edge's normal axis and its own axis
     const double X = (e % 2 == 0) ? t.lo[axis] : t.hi[axis];
     const int n = t.n[along];
     std::vector<double>& out = tb.edges[e];
     out.assign(size_t(n) * 6, 0.0);
+    K[e].resize(n);
+    Kp[e].resize(n);
+    sides[e].knots = n;
     for (int j = 0; j < n; ++j) {
       const double y = j == n - 1 ? t.hi[along] : t.lo[along] + j / t.inv_h[along];
       double D[4][4];
       if (axis == 0) partials_2d(t, X, y, D);
       else partials_2d(t, y, X, D);
-      for (int k = 0; k < (t.linear ? 2 : 3); ++k) {  // a linear table keeps g2 = g2' = 0
+      for (int k = 0; k < 2; ++k) {
         out[6 * j + 2 * k] = axis == 0 ? D[k][0] : D[0][k];
         out[6 * j + 2 * k + 1] = axis == 0 ? D[k][1] : D[1][k];
       }
+      // A linear table keeps g2 = g2' = 0 (first-order continuation).
+      K[e][j] = t.linear ? 0.0 : axis == 0 ? D[2][0] : D[0][2];
+      Kp[e][j] = t.linear ? 0.0 : axis == 0 ? D[2][1] : D[1][2];
+    }
+    clamp_band(K[e], Kp[e], 1.0 / t.inv_h[along], &sides[e], &cubics);
+  }
+  // Corners: the quadratic part K dx^2/2 + D_11 dx dy + L dy^2/2 must not bend the corner's
+  // outward quadrant down: in units of the box's half-widths, raise K and L to at least |D_11|
+  // where D_11 (oriented outward) is negative and K L < D_11^2.
+  const double hx = 0.5 * (t.hi[0] - t.lo[0]), hy = 0.5 * (t.hi[1] - t.lo[1]);
+  int convexified = 0;
+  for (int c = 0; c < 4; ++c) {
+    const bool ux = c & 1, uy = c & 2;
+    const double X = ux ? t.hi[0] : t.lo[0], Y = uy ? t.hi[1] : t.lo[1];
+    double D[4][4];
+    partials_2d(t, X, Y, D);
+    const double a11 = (ux ? 1 : -1) * (uy ? 1 : -1) * D[1][1];
+    double& Kc = K[ux ? 1 : 0][uy ? t.n[1] - 1 : 0];
+    double& Lc = K[uy ? 3 : 2][ux ? t.n[0] - 1 : 0];
+    const double A = std::abs(D[1][1]) * hx * hy;
+    if (!t.linear && a11 < 0 && (Kc * hx * hx) * (Lc * hy * hy) < A * A) {
+      const double K0 = Kc * hx * hx, L0 = Lc * hy * hy;
+      Kc = std::max(Kc, A / (hx * hx));
+      Lc = std::max(Lc, A / (hy * hy));
+      if (A * A - K0 * L0 > 1e-9 * A * A) ++convexified;
+    }
+  }
+  for (int e = 0; e < 4; ++e) {
+    const int along = 1 - e / 2;
+    make_band_nonnegative(K[e], Kp[e], 1.0 / t.inv_h[along], &sides[e]);
+    for (size_t j = 0; j < K[e].size(); ++j) {
+      tb.edges[e][6 * j + 4] = K[e][j];
+      tb.edges[e][6 * j + 5] = Kp[e][j];
     }
   }
   for (int c = 0; c < 4; ++c) {
-    const double X = (c & 1) ? t.hi[0] : t.lo[0], Y = (c & 2) ? t.hi[1] : t.lo[1];
+    const bool ux = c & 1, uy = c & 2;
+    const double X = ux ? t.hi[0] : t.lo[0], Y = uy ? t.hi[1] : t.lo[1];
     double D[4][4];
     partials_2d(t, X, Y, D);
-    tb.corners[c] = {D[0][0], D[1][0], D[0][1], D[2][0], D[1][1], D[0][2], D[2][1], D[1][2]};
-    if (t.linear) tb.corners[c] = {D[0][0], D[1][0], D[0][1], 0.0, D[1][1], 0.0, 0.0, 0.0};
+    const int jx = uy ? t.n[1] - 1 : 0, iy = ux ? t.n[0] - 1 : 0;
+    const std::vector<double>& ex = K[ux ? 1 : 0];
+    const std::vector<double>& ey = K[uy ? 3 : 2];
+    tb.corners[c] = {D[0][0], D[1][0], D[0][1], ex[jx], D[1][1], ey[iy], Kp[ux ? 1 : 0][jx], Kp[uy ? 3 : 2][iy]};
+  }
+  if (dep) {
+    dep->sides = sides;
+    dep->corners_convexified = convexified;
+    // A corner cubic is dropped where the edge's curvature fell toward the corner.
+    dep->corner_cubics_dropped = cubics;
   }
 }
 
@@ -229,6 +395,14 @@ BakedTerm make_baked_term(const BakedTable& tb, const std::string& file) {
       check_close(std::string(kBakedEdgeNames[e]) + "[" + std::to_string(q) + "]", tb.edges[e][q],
                   ref.edges[e][q], scale, tb, file);
   }
+  for (int e = 0; e < 4; ++e) {
+    const size_t n = ref.edges[e].size() / 6;
+    t.band[e].resize(2 * n);
+    for (size_t j = 0; j < n; ++j) {
+      t.band[e][2 * j] = ref.edges[e][6 * j + 4];
+      t.band[e][2 * j + 1] = ref.edges[e][6 * j + 5];
+    }
+  }
   for (int c = 0; c < 4; ++c) {
     double scale = 0;
     for (double v : ref.corners[c]) scale = std::max(scale, std::abs(v));
@@ -257,6 +431,7 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
     const double xc = std::clamp(s[0], t.lo[0], t.hi[0]), dx = s[0] - xc;
     double D[4], w[4][4];
     partials_1d(t, xc, D);
+    if (s[0] != xc && !t.linear) D[2] = std::max(D[2], 0.0);  // the continuation's curvature (see the header)
     axis_weights(s[0] != xc, dx, w, t.linear ? 1 : 2);
     for (int m = 0; m <= order; ++m) out[m] = w[m][0] * D[0] + w[m][1] * D[1] + w[m][2] * D[2] + w[m][3] * D[3];
     return;
@@ -269,7 +444,20 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
   const int na = ox ? p + 1 : order + 1, nb = oy ? p + 1 : order + 1;
   double D[4][4], wx[4][4], wy[4][4];
   partials_2d(t, xc, yc, na, nb, D);
-  // In a corner the safeguard drops the D_22 term (see the header).
+  // Outside, the curvature across an edge is the band's K (or L), not the table's: D_2j in an
+  // x band or corner becomes d^j K / dy^j, D_i2 in a y band or corner d^i L / dx^i. (A linear
+  // table has no second-order part outside.)
+  if (ox && !t.linear) {
+    double Kd[4];
+    band_derivs(t, s[0] < t.lo[0] ? 0 : 1, yc, Kd);
+    for (int j = 0; j < nb; ++j) D[2][j] = Kd[j];
+  }
+  if (oy && !t.linear) {
+    double Ld[4];
+    band_derivs(t, s[1] < t.lo[1] ? 2 : 3, xc, Ld);
+    for (int i = 0; i < na; ++i) D[i][2] = Ld[i];
+  }
+  // In a corner the safeguard has no dx^2 dy^2 term (see the header).
   if (ox && oy && !t.linear) D[2][2] = 0;
   axis_weights(ox, s[0] - xc, wx, p);
   axis_weights(oy, s[1] - yc, wy, p);

@@ -16,10 +16,12 @@
 //                                  x is the term's first strain, y its second
 //       /tables/<name>/safeguard/edge_x_lower, edge_x_upper   float64 [n1, 6]
 //       /tables/<name>/safeguard/edge_y_lower, edge_y_upper   float64 [n0, 6]
-//           per knot along the edge: g0, g0', g1, g1', g2, g2' with g_k = d^k f / dn^k on the
-//           edge (n the edge's own axis, not the outward normal) and ' along the edge
+//           per knot along the edge: g0, g0', g1, g1', g2, g2' with g0, g1 = f, df/dn on the
+//           edge (n the edge's own axis, not the outward normal), g2 the band's curvature
+//           (d2f/dn2 clamped, docs/bake.md), and ' along the edge
 //       /tables/<name>/safeguard/corner_<x>_<y>  ( <x>,<y> in lower|upper )  float64 [8]
-//           a00 a10 a01 a20 a11 a02 a21 a12, a_ij = d^(i+j) f / dx^i dy^j at the corner
+//           a00 a10 a01 a20 a11 a02 a21 a12: a00 a10 a01 a11 the table's partials at the
+//           corner, a20 a21 (a02 a12) the x (y) edge's g2, g2' at the corner
 //
 // extrapolation = "linear" (tables fitted by `fit-splines`, HYLC's convention): outside the box
 // the table continues to first order only, i.e. the same stored coefficients with every
@@ -84,6 +86,10 @@ struct BakedModel {
 };
 
 inline constexpr const char* kBakedFormat = "yarnhom-baked";
+// The safeguard's g2 and corner a20 a21 a02 a12 are the clamped continuation's (docs/bake.md),
+// not the table's raw partials since issue 12; the layout is unchanged, so the version is too.
+// A file baked before then whose boundary curved down disagrees with the recomputed
+// coefficients, and the evaluator says so (bake it again).
 inline constexpr int kBakedVersion = 1;
 
 // True when the file is HDF5 with the baked format tag (false for a model file, or any other).

@@ -24,6 +24,10 @@ void write_history(const h5::Node& g, const History& h) {
   g.write("L_F", h.loss_f, {n});
   g.write("L_C", h.loss_c, {n});
   g.write("L_S", h.loss_s, {n});
+  if (!h.polish_train.empty()) {
+    g.write("polish_train_loss", h.polish_train, {h.polish_train.size()});
+    g.write("polish_val_loss", h.polish_val, {h.polish_val.size()});
+  }
 }
 
 History read_history(const h5::Node& g) {
@@ -35,6 +39,8 @@ History read_history(const h5::Node& g) {
   h.loss_f = g.read_double("L_F").data;
   h.loss_c = g.read_double("L_C").data;
   h.loss_s = g.read_double("L_S").data;
+  if (g.has("polish_train_loss")) h.polish_train = g.read_double("polish_train_loss").data;
+  if (g.has("polish_val_loss")) h.polish_val = g.read_double("polish_val_loss").data;
   return h;
 }
 
@@ -69,6 +75,8 @@ void write_model(const std::string& path, const Model& model) {
       g.set_attr("epochs", n.epochs);
       g.set_attr("backend", n.backend);
       g.set_attr("status", n.status);
+      if (!n.recipe.empty()) g.set_attr("recipe", n.recipe);
+      if (!n.val_index.empty()) g.write("val_index", n.val_index, {n.val_index.size()});
       for (int k = 0; k < n.desc.num_layers(); ++k) {
         const hsize_t out_k = n.desc.layer_out(k), in_k = n.desc.layer_in(k);
         const float* w = n.params.data() + n.desc.weight_offset(k);
@@ -146,6 +154,12 @@ Model read_model(const std::string& path) {
     for (float p : n.params)
       if (!std::isfinite(p)) g.fail(g.path(), "non-finite weight");
     if (g.has("history")) n.history = read_history(g.group("history"));
+    if (g.has_attr("recipe")) n.recipe = g.attr_string("recipe");
+    if (g.has("val_index")) {
+      n.val_index = g.read_int("val_index").data;
+      for (int i : n.val_index)
+        if (i < 0) g.fail(g.child_path("val_index"), "negative row index");
+    }
     m.networks.push_back(std::move(n));
   }
   if (m.networks.empty()) nets.fail("/networks", "no networks");

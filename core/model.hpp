@@ -11,6 +11,11 @@
 //   /networks/<name>/layer<k>/W   float32 [out, in]   (y = W x + b)
 //   /networks/<name>/layer<k>/b   float32 [out]
 //   /networks/<name>/history/{train_loss, val_loss, lr, L_Z, L_F, L_C, L_S}  per epoch
+//   /networks/<name>/history/{polish_train_loss, polish_val_loss}   per L-BFGS iteration
+//                                 of the full-batch polish (absent when there was none)
+//   /networks/<name>/val_index    int32 [n_val]: the dataset rows held out for validation
+//                                 (absent in files written before it existed)
+//   /networks/<name>              attr recipe (optional): "paper" or "default"
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -29,6 +34,7 @@ struct Normalization {
 
 struct History {
   std::vector<double> train_loss, val_loss, lr, loss_z, loss_f, loss_c, loss_s;
+  std::vector<double> polish_train, polish_val;  // per polish iteration (may be empty)
   size_t size() const { return train_loss.size(); }
 };
 
@@ -42,7 +48,9 @@ struct ModelNetwork {
   int epochs = 0;             // epochs actually run
   std::string backend = "cpu";
   std::string status = "ok";  // "ok", or why training stopped (e.g. non-finite loss)
+  std::string recipe;         // "paper", "default" (empty when the file does not say)
   History history;
+  std::vector<int> val_index; // dataset rows of the term held out for validation (may be empty)
 };
 
 struct Model {

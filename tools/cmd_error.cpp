@@ -14,6 +14,7 @@
 #include "bake/quadratic_error.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
+#include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "tools/commands.hpp"
 
@@ -48,6 +49,10 @@ struct Row {
   double E = 0, E_rel = 0;
   bool has_fit = false;
   FitError fit;
+  FitQuality val_q, all_q;  // core/fit_metrics.hpp: on the validation points, on all points
+  bool has_val = false;     // the model recorded its validation points
+  bool has_net = false;     // a baked file's network, measured the same way
+  FitQuality net_q, net_all;
   bool has_dev = false;
   BakeDeviation dev;
 };
@@ -67,7 +72,9 @@ void print_compare(const Model& model, const std::vector<Term>& wanted) {
     std::printf("%-5s ", net.term.name.c_str());
     const auto ref = network_function(net);
     for (int k = 0; k < 3; ++k) {
-      BakedTerm t = make_baked_term(bake_network(net, r1[k], r2[k]));
+      // The interpolation alone: without the boundary repair, whose change does not depend on
+      // the resolution (bake reports it).
+      BakedTerm t = make_baked_term(bake_network(net, r1[k], r2[k], nullptr, false));
       BakeDeviation d = bake_deviation(ref, baked_function(t), net.term.dim(), net.lower, net.upper);
       worst[k] = std::max(worst[k], d.max_rel);
       char buf[64];
@@ -167,6 +174,17 @@ void register_error(CLI::App& app) {
       if (td) {
         r.has_fit = true;
         r.fit = fit_error(f, *td);
+        const std::vector<double> jet = f(td->strain.data(), td->n, 1);
+        r.all_q = fit_quality(*td, jet);
+        const ModelNetwork* mn = model ? model->find(term.name) : nullptr;
+        r.has_val = mn && !mn->val_index.empty() && mn->val_index.back() < td->n;
+        r.val_q = r.has_val ? fit_quality(*td, jet, mn->val_index) : r.all_q;
+        if (baked && mn) {
+          const std::vector<double> nj = network_function(*mn)(td->strain.data(), td->n, 1);
+          r.has_net = true;
+          r.net_all = fit_quality(*td, nj);
+          r.net_q = r.has_val ? fit_quality(*td, nj, mn->val_index) : r.net_all;
+        }
         double a = td->energy[0], b = td->energy[0];
         for (double e : td->energy) { a = std::min(a, e); b = std::max(b, e); }
         erange = b - a;
@@ -187,8 +205,42 @@ void register_error(CLI::App& app) {
     }
     if (rows.empty()) throw std::invalid_argument(o->file + ": none of the requested terms is in the file");
 
+    // The fit first: what the model is for.
+    bool any_fit = false, any_val = false;
+    for (const Row& r : rows) {
+      any_fit = any_fit || r.has_fit;
+      any_val = any_val || r.has_val;
+    }
+    int failed = 0;
+    if (any_fit) {
+      std::printf("Fit to the data, in physical units (docs/training.md, \"Fit quality\"): energy RMSE relative to the "
+                  "term's data range, RMS gradient error relative to its mean gradient; limits %g%% and %g%% on the "
+                  "validation points%s\n",
+                  100 * kFitEnergyThreshold, 100 * kFitGradThreshold,
+                  any_val ? "" : " (this model records no validation split: measured on all points)");
+      if (baked)
+        std::printf("The verdict is the network's (what training achieved); the baked columns are the tables a "
+                    "simulator evaluates, which differ where bake's boundary repair raised an inward outward slope "
+                    "(docs/bake.md): there the baked gradient cannot follow the data.\n");
+      std::printf("%-5s %6s  %-10s %-10s | %-10s %-10s |%s %s\n", "term", "N val", "val E/rng", "val G/avg", "all E/rng",
+                  "all G/avg", baked ? " baked E    baked G    |" : "", "verdict");
+      for (const Row& r : rows) {
+        if (!r.has_fit) continue;
+        const FitQuality& q = r.has_net ? r.net_q : r.val_q;
+        const FitQuality& qa = r.has_net ? r.net_all : r.all_q;
+        std::string verdict = fit_verdict(q);
+        failed += !q.ok();
+        if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? "; the BAKED table fails (boundary repair)" : "";
+        std::printf("%-5s %6d  %-10.3g %-10.3g | %-10.3g %-10.3g |", r.term.c_str(), q.n, 100 * q.energy_rel,
+                    100 * q.grad_rel, 100 * qa.energy_rel, 100 * qa.grad_rel);
+        if (baked) std::printf(" %-10.3g %-10.3g |", 100 * r.val_q.energy_rel, 100 * r.val_q.grad_rel);
+        std::printf(" %s\n", verdict.c_str());
+      }
+      std::printf("(percentages)  %d of %zu term(s) fail the limits%s\n\n", failed, rows.size(),
+                  failed ? ": their networks do not represent the data there (see the verdicts)" : "");
+    }
     std::printf("%-5s %6s  %-11s %-10s | %-11s %-11s %-9s %-11s %-9s", "term", "N", "E_I", "E_I/range",
-                "energy MAE", "energy RMSE", "rel", "grad MAE", "rel");
+                "energy MAE", "energy RMSE", "rel std", "grad MAE", "rel");
     if (baked) std::printf(" | %-12s %-12s", "bake max/rng", "bake mean/rng");
     std::printf("\n");
     for (const Row& r : rows) {
@@ -210,19 +262,33 @@ void register_error(CLI::App& app) {
                 "only comparable for the same pattern and data\n");
     std::printf("  E_I: mean |Psi - T2| over %d midpoints of a neighbourhood 1/100 of the data range wide "
                 "(our reading of Eq. 5: integral over measure)\n", o->samples);
+    std::printf("  note: E measures smoothness (how far the function is from its local quadratic), not fit: a flat "
+                "network that predicts the mean has a tiny E. Read the fit table above for the fit.\n");
 
     if (!o->csv.empty()) {
       std::ofstream out(o->csv);
       if (!out) throw std::invalid_argument(o->csv + ": cannot write");
-      out << "term,n,E_I,E_I_rel,energy_mae,energy_rmse,energy_rel,grad_mae,grad_rel,bake_max_rel,bake_mean_rel\n";
+      out << "term,n,E_I,E_I_rel,energy_mae,energy_rmse,energy_rel,grad_mae,grad_rel,bake_max_rel,bake_mean_rel,"
+             "val_n,val_energy_rel_range,val_grad_rel_mean,all_energy_rel_range,all_grad_rel_mean,fit_ok,verdict,"
+             "baked_val_energy_rel_range,baked_val_grad_rel_mean,baked_ok\n";
       for (const Row& r : rows) {
         out << r.term << ',' << r.n << ',' << r.E << ',' << r.E_rel << ',';
         if (r.has_fit) out << r.fit.energy_mae << ',' << r.fit.energy_rmse << ',' << r.fit.energy_rel << ',' << r.fit.grad_mae << ',' << r.fit.grad_rel << ',';
         else out << ",,,,,";
-        if (r.has_dev) out << r.dev.max_rel << ',' << r.dev.mean_rel << '\n';
-        else out << ",\n";
+        if (r.has_dev) out << r.dev.max_rel << ',' << r.dev.mean_rel << ',';
+        else out << ",,";
+        if (r.has_fit) {
+          const FitQuality& q = r.has_net ? r.net_q : r.val_q;
+          const FitQuality& qa = r.has_net ? r.net_all : r.all_q;
+          out << q.n << ',' << q.energy_rel << ',' << q.grad_rel << ',' << qa.energy_rel << ',' << qa.grad_rel
+              << ',' << (q.ok() ? 1 : 0) << ",\"" << fit_verdict(q) << "\",";
+          if (baked) out << r.val_q.energy_rel << ',' << r.val_q.grad_rel << ',' << (r.val_q.ok() ? 1 : 0) << '\n';
+          else out << ",,\n";
+        } else {
+          out << ",,,,,,,,,\n";
+        }
       }
-      out << "E,," << E << ",,,,,,,,\n";
+      out << "E,," << E << ",,,,,,,,,,,,,,,,,,\n";
     }
     if (o->compare) {
       if (!model) throw std::invalid_argument("--compare needs the network: give --model MODEL.h5");

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "bake/pipeline_stage.hpp"
+#include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
@@ -44,7 +45,7 @@ struct Stage {
 
 void register_pipeline(CLI::App& app) {
   struct Opts {
-    std::string pattern, run, preset = "quick", backend = "cpu", recipe = "paper";
+    std::string pattern, run, preset = "quick", backend = "cpu", recipe = "default";
     int threads = 0, epochs = 0;
     bool force = false;
   };
@@ -64,8 +65,8 @@ void register_pipeline(CLI::App& app) {
   cmd->add_option("--backend", o->backend, "Training backend: cpu or cuda")->capture_default_str();
   cmd->add_option("--threads", o->threads, "CPU threads for training (0: all cores)")->capture_default_str();
   cmd->add_option("--epochs", o->epochs, "Epochs per network (0: the paper's 500)")->capture_default_str();
-  cmd->add_option("--recipe", o->recipe, "Training recipe, as train-all's --recipe: paper or improved")
-      ->check(CLI::IsMember({"paper", "improved"}))
+  cmd->add_option("--recipe", o->recipe, "Training recipe, as train-all's --recipe: default, paper or improved")
+      ->check(CLI::IsMember({"default", "paper", "improved"}))
       ->capture_default_str();
   cmd->add_flag("--force", o->force, "Rerun every stage");
   cmd->callback([o, parent] {
@@ -146,23 +147,52 @@ void register_pipeline(CLI::App& app) {
     // The report.
     std::printf("\nreport (%s)\n", o->run.c_str());
     Model m = read_model(model);
-    std::printf("  %zu terms; final validation loss per term:", m.networks.size());
-    for (const ModelNetwork& n : m.networks)
-      std::printf(" %s:%.2e", n.term.name.c_str(), n.history.size() ? n.history.val_loss.back() : 0.0);
-    std::printf("\n");
     std::ifstream csv(errors_csv);
     std::string row;
     double worst = 0;
     std::string E = "?";
+    int failed = 0, measured = 0;
+    std::string lines;
     while (std::getline(csv, row)) {
-      std::vector<std::string> cols;
-      std::stringstream ss(row);
+      // Columns of `error --csv`; the last (the verdict) is quoted and may hold anything but a
+      // double quote.
+      std::vector<std::string> cols, tail;
+      const size_t q = row.find('"'), q2 = row.rfind('"');
+      std::string verdict = q == std::string::npos ? "" : row.substr(q + 1, q2 - q - 1);
+      std::stringstream ss(q == std::string::npos ? row : row.substr(0, q));
       std::string c;
       while (std::getline(ss, c, ',')) cols.push_back(c);
+      if (q != std::string::npos) {  // the columns after the quoted verdict
+        std::stringstream st(row.substr(q2 + 1));
+        while (std::getline(st, c, ',')) tail.push_back(c);
+      }
       if (cols.size() >= 3 && cols[0] == "E") E = cols[2];
-      if (cols.size() >= 10 && cols[0] != "term" && cols[0] != "E" && !cols[9].empty()) worst = std::max(worst, std::stod(cols[9]));
+      if (cols.empty() || cols[0] == "term" || cols[0] == "E") continue;
+      if (cols.size() >= 10 && !cols[9].empty()) worst = std::max(worst, std::stod(cols[9]));
+      if (cols.size() >= 17 && !cols[12].empty()) {
+        ++measured;
+        failed += cols[16] != "1";
+        char buf[640];
+        std::string baked_note;
+        // tail: "", baked energy, baked gradient, baked ok
+        if (tail.size() >= 4 && !tail[1].empty() && tail[3] != "1")
+          baked_note = "; baked table: energy " + std::to_string(100 * std::stod(tail[1])).substr(0, 5) +
+                       "%, gradient " + std::to_string(100 * std::stod(tail[2])).substr(0, 6) +
+                       "% (bake's boundary repair, docs/bake.md)";
+        std::snprintf(buf, sizeof buf, "    %-4s energy %6.2f%%  gradient %7.2f%%   %s%s\n", cols[0].c_str(),
+                      100 * std::stod(cols[12]), 100 * std::stod(cols[13]), verdict.c_str(), baked_note.c_str());
+        lines += buf;
+      }
     }
-    std::printf("  quadratic expansion error E (Eq. 4) = %s J/m^2; worst bake deviation %.2e of a term's range\n", E.c_str(), worst);
+    std::printf("  %zu terms; validation fit of the networks (energy RMSE / data range, gradient error / mean "
+                "gradient; limits %g%% and %g%%):\n%s", m.networks.size(), 100 * kFitEnergyThreshold,
+                100 * kFitGradThreshold, lines.c_str());
+    if (measured)
+      std::printf("  %s\n", failed ? (std::to_string(failed) + " of " + std::to_string(measured) +
+                                      " terms FAIL the limits: the material does not represent the data there").c_str()
+                                   : "every term fits its validation data within the limits");
+    std::printf("  quadratic expansion error E (Eq. 4) = %s J/m^2 (measures smoothness, not fit); worst bake "
+                "deviation %.2e of a term's range\n", E.c_str(), worst);
     for (const auto& [name, secs] : times) std::printf("  %s: %s\n", name.c_str(), format_seconds(secs).c_str());
     std::printf("  total %s\n", format_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_all).count()).c_str());
     std::printf("  metrics: %s\n  pictures: %s\n", errors.c_str(), (run / "plots").string().c_str());

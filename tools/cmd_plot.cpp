@@ -14,37 +14,11 @@
 #include "core/dataset.hpp"
 #include "core/model.hpp"
 #include "tools/commands.hpp"
+#include "tools/python_env.hpp"
 
 namespace yarnhom::tools {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// A python3 that imports matplotlib, h5py and numpy: $YARNHOM_PYTHON, then the system's
-// /usr/bin/python3 (Debian's python3-matplotlib), then python3 on PATH.
-std::string find_python() {
-  std::vector<std::string> candidates;
-  if (const char* e = std::getenv("YARNHOM_PYTHON")) candidates.push_back(e);
-  candidates.push_back("/usr/bin/python3");
-  candidates.push_back("python3");
-  for (const std::string& c : candidates) {
-    const std::string cmd = "'" + c + "' -c 'import matplotlib, h5py, numpy' >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return c;
-  }
-  return "";
-}
-
-std::string scripts_dir() {
-  if (const char* e = std::getenv("YARNHOM_SCRIPTS")) return e;
-#ifdef YARNHOM_SCRIPTS_DIR
-  return YARNHOM_SCRIPTS_DIR;
-#else
-  return "tools";
-#endif
-}
-
-}  // namespace
 
 void register_plot(CLI::App& app) {
   struct Opts {

@@ -28,6 +28,7 @@ struct NetworkJob {
   std::vector<float> x_val, y_val, g_val;
   std::vector<float> xo_val, no_val;             // fixed validation off-domain points [k, d]
   std::vector<float> init_params;
+  std::vector<int> val_rows;                     // dataset rows of the validation points
 };
 
 struct TrainConfig {

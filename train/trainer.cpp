@@ -1,10 +1,12 @@
 #include "train/trainer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "core/offdomain.hpp"
 #include "core/rng.hpp"
+#include "cpu/network_eval.hpp"
 
 namespace yarnhom {
 
@@ -58,6 +60,7 @@ NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalizati
   n_val = std::clamp(n_val, 1, n - 1);
   job.n_val = n_val;
   job.n_train = n - n_val;
+  job.val_rows.assign(perm.begin(), perm.begin() + n_val);
 
   Normalization norm;
   for (int k = 0; k < d; ++k) {
@@ -157,6 +160,34 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
     if (!any) break;
   }
 
+  // The polish: independent per network, so the networks run in parallel (one per thread).
+  res.polish.assign(J, {});
+  std::vector<std::vector<float>> final_params(J);
+  for (size_t j = 0; j < J; ++j)
+    if (res.rows[j].status == "ok") final_params[j] = backend.params(int(j));
+  if (opt.polish.iterations > 0) {
+    std::vector<int> todo;
+    for (size_t j = 0; j < J; ++j)
+      if (res.rows[j].status == "ok") todo.push_back(int(j));
+    // Longest first (cost ~ points x jet channels), as in the CPU backend's epochs.
+    std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) {
+      return double(jobs[a].n_train) * (jobs[a].desc.input_dim == 1 ? 4 : 10) >
+             double(jobs[b].n_train) * (jobs[b].desc.input_dim == 1 ? 4 : 10);
+    });
+    const int T = std::max(1, std::min<int>(opt.config.threads, int(todo.size())));
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+    for (size_t i = 0; i < todo.size(); ++i) {
+      const int j = todo[i];
+      res.polish[j] = polish_network(jobs[j], opt.config, opt.polish, final_params[j]);
+    }
+    for (int j : todo) {
+      res.seconds[j] += res.polish[j].seconds;
+      if (!std::isfinite(res.polish[j].val_end)) res.rows[j].status = "non-finite loss in the polish";
+    }
+  }
+
+  res.val_fit.assign(J, {});
+  res.all_fit.assign(J, {});
   res.model.dataset = dataset_path;
   res.model.areal_density = ds.areal_density;
   res.model.seed = opt.seed;
@@ -168,12 +199,20 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
     n.lower = datas[j]->lower;
     n.upper = datas[j]->upper;
     n.desc = jobs[j].desc;
-    n.params = backend.params(int(j));
+    n.params = std::move(final_params[j]);
     n.norm = norms[j];
     n.weights = opt.config.loss.w;
     n.epochs = res.rows[j].epochs_done;
     n.backend = backend.name();
     n.history = std::move(hist[j]);
+    n.history.polish_train = res.polish[j].train_loss;
+    n.history.polish_val = res.polish[j].val_loss;
+    n.recipe = opt.recipe;
+    n.val_index = jobs[j].val_rows;
+    // The fit in physical units, on the held-out points and on all of them.
+    const std::vector<double> jet = cpu::eval_network_physical(n, datas[j]->strain.data(), datas[j]->n, 1);
+    res.val_fit[j] = fit_quality(*datas[j], jet, n.val_index);
+    res.all_fit[j] = fit_quality(*datas[j], jet);
     res.model.networks.push_back(std::move(n));
   }
   return res;

@@ -9,19 +9,23 @@
 #include <vector>
 
 #include "core/dataset.hpp"
+#include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "train/backend.hpp"
 #include "train/plateau.hpp"
+#include "train/polish.hpp"
 
 namespace yarnhom {
 
 struct TrainerOptions {
   TrainConfig config;
   PlateauParams plateau;
+  PolishOptions polish;      // the full-batch L-BFGS polish after the epochs (0 iterations: none)
   NetworkDesc net;           // hidden sizes and activation; input_dim set per term
   uint64_t seed = 0;
   int batch_1d = 4, batch_2d = 128;
   double val_fraction = 0.1;
+  std::string recipe = "paper";  // recorded in the model file
 };
 
 // Progress after each epoch: per network (in job order) its name, the epoch's stats, the
@@ -39,7 +43,10 @@ using ProgressFn = std::function<void(int epoch, int epochs, const std::vector<P
 struct TrainResult {
   Model model;                 // networks that trained to the end, in catalogue order
   std::vector<ProgressRow> rows;  // final row per network, failed ones included
-  std::vector<double> seconds;    // wall time attributed to each network (share of epochs)
+  std::vector<double> seconds;    // wall time attributed to each network (share of epochs + polish)
+  std::vector<PolishResult> polish;  // per network (empty results when there was no polish)
+  std::vector<FitQuality> val_fit, all_fit;  // per network: physical fit on the validation
+                                             // points and on all points (core/fit_metrics.hpp)
   bool all_ok() const;
 };
 

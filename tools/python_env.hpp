@@ -1,0 +1,33 @@
+#pragma once
+// Where the plotting scripts are and which Python runs them (shared by `plot` and `study`).
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace yarnhom::tools {
+
+// A python3 that imports matplotlib, h5py and numpy: $YARNHOM_PYTHON, then the system's
+// /usr/bin/python3 (Debian's python3-matplotlib), then python3 on PATH. Empty if none.
+inline std::string find_python() {
+  std::vector<std::string> candidates;
+  if (const char* e = std::getenv("YARNHOM_PYTHON")) candidates.push_back(e);
+  candidates.push_back("/usr/bin/python3");
+  candidates.push_back("python3");
+  for (const std::string& c : candidates) {
+    const std::string cmd = "'" + c + "' -c 'import matplotlib, h5py, numpy' >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) == 0) return c;
+  }
+  return "";
+}
+
+// The folder holding plot/*.py: $YARNHOM_SCRIPTS, else the source tree's tools/.
+inline std::string scripts_dir() {
+  if (const char* e = std::getenv("YARNHOM_SCRIPTS")) return e;
+#ifdef YARNHOM_SCRIPTS_DIR
+  return YARNHOM_SCRIPTS_DIR;
+#else
+  return "tools";
+#endif
+}
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,30 @@
+#include "train/recipe.hpp"
+
+#include <stdexcept>
+
+namespace yarnhom {
+
+std::vector<std::string> recipe_names() { return {"default", "paper", "improved"}; }
+
+TrainerOptions recipe_options(const std::string& recipe) {
+  TrainerOptions opt;  // the paper's recipe: Adam 1e-3, batch 4 / 128, 500 epochs, plateau, weights
+  opt.recipe = recipe;
+  if (recipe == "paper") return opt;
+  if (recipe == "improved") {
+    opt.config.adam.lr = 3e-3;
+    opt.batch_2d = 32;
+    return opt;
+  }
+  if (recipe == "default") {
+    opt.polish.iterations = 1000;
+    opt.polish.w_c = 0;
+    opt.polish.w_s = 0;
+    opt.polish.keep_best = true;
+    return opt;
+  }
+  std::string names;
+  for (const std::string& n : recipe_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown recipe '" + recipe + "' (known: " + names + ")");
+}
+
+}  // namespace yarnhom
