@@ -28,43 +28,56 @@ struct TrainOpts {
 void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("DATASET", o.dataset, "Dataset file (HDF5) written by 'produce' or 'synth'")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_regular_file());
   cmd->add_option("-o,--output", o.out,
                   "Model file to write (HDF5). Written under a temporary name and renamed at the "
                   "end: an interrupted run never leaves a partial model or destroys an old one")
       ->required();
   cmd->add_option("--backend", o.backend, "Compute backend: cpu, or cuda when built with CUDA")
+      ->check(backend_validator())
       ->capture_default_str();
   cmd->add_option("--epochs", o.epochs, "Epochs per network (the paper: 500)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1, 100000000))
       ->capture_default_str();
   cmd->add_option("--seed", o.seed,
                   "Seed of the split, initialization, shuffling and off-domain points; the same "
                   "seed and backend give identical weights (on the CPU for any thread count)")
       ->capture_default_str();
-  cmd->add_option("--threads", o.threads, "CPU threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "CPU threads (0: all cores)")->check(CLI::Range(0, kMaxThreads))->capture_default_str();
   cmd->add_option("--recipe", o.recipe,
                   "'paper': the paper's recipe (lr 1e-3, 2D batch 128). 'improved': lr 3e-3 and 2D "
                   "batch 32, which fits every 2D term of the synthetic data 2-30x better (see "
                   "docs/benchmarks.md) in about 1.3x the time. --lr and --batch-2d override it")
       ->check(CLI::IsMember({"paper", "improved"}))
       ->capture_default_str();
-  cmd->add_option("--lr", o.lr, "Initial Adam learning rate")->capture_default_str();
+  cmd->add_option("--lr", o.lr, "Initial Adam learning rate")->check(finite_positive())->capture_default_str();
   cmd->add_option("--hidden", o.hidden, "Hidden layer sizes (the paper's Net-3: 16,32,16)")
+      ->check(CLI::Validator(
+          [](std::string& in) -> std::string {
+            try {
+              NetworkDesc desc;
+              desc.hidden = parse_ints(in, "--hidden", 1024);
+              desc.validate();
+            } catch (const std::exception& e) {
+              return e.what();
+            }
+            return "";
+          },
+          "SIZES"))
       ->capture_default_str();
-  cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->capture_default_str();
-  cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->capture_default_str();
-  cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->capture_default_str();
-  cmd->add_option("--w-s", o.ws, "Weight of L_S (strain concentration, off-domain)")->capture_default_str();
-  cmd->add_option("--w-x", o.wx, "Weight of L_X (convexity; 0 as in the paper)")->capture_default_str();
+  cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-s", o.ws, "Weight of L_S (strain concentration, off-domain)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-x", o.wx, "Weight of L_X (convexity; 0 as in the paper)")->check(finite_non_negative())->capture_default_str();
   cmd->add_flag("--stencil-c", o.stencil,
                 "Compute L_C with the paper's finite-difference stencil instead of exact third "
                 "derivatives");
-  cmd->add_option("--stencil-eps", o.stencil_eps, "Stencil step in normalized units")->capture_default_str();
-  cmd->add_option("--batch-1d", o.batch1, "Batch size of 1D terms")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--batch-2d", o.batch2, "Batch size of 2D terms")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--stencil-eps", o.stencil_eps, "Stencil step in normalized units")->check(finite_range(1e-8, 0.5, "in [1e-8, 0.5]"))->capture_default_str();
+  cmd->add_option("--batch-1d", o.batch1, "Batch size of 1D terms")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  cmd->add_option("--batch-2d", o.batch2, "Batch size of 2D terms")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   cmd->add_option("--off-domain", o.off, "Fresh off-domain points per batch for L_S")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", o.quiet, "No live progress, only the final table");
 }
@@ -111,6 +124,7 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
     if (cmd.count("--lr") == 0) o.lr = 3e-3;
     if (cmd.count("--batch-2d") == 0) o.batch2 = 32;
   }
+  prepare_output(o.out, {o.dataset});
   Dataset ds = read_dataset(o.dataset);
   if (terms.empty())
     for (auto& t : ds.terms) terms.push_back(t.term);
@@ -169,6 +183,7 @@ void register_train(CLI::App& app) {
       "the model file. Exit status 2 if a network failed (its loss became non-finite).");
   add_common(all, *oa);
   all->add_option("--terms", oa->terms, "Terms to train, e.g. 0,02,15 (default: all in the dataset)")
+      ->check(term_list_validator())
       ->capture_default_str();
   all->callback([oa, all] {
     run_training(*oa, oa->terms == "all" ? std::vector<Term>{} : parse_term_list(oa->terms), *all);
@@ -177,7 +192,7 @@ void register_train(CLI::App& app) {
   auto o1 = std::make_shared<TrainOpts>();
   auto* one = app.add_subcommand("train", "Train one energy term's network (see train-all for the recipe)");
   add_common(one, *o1);
-  one->add_option("--term", o1->term, "The term, e.g. 02")->required();
+  one->add_option("--term", o1->term, "The term, e.g. 02")->required()->check(term_list_validator(true));
   one->callback([o1, one] { run_training(*o1, {term_by_name(o1->term)}, *one); });
 }
 
