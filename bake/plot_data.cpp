@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "bake/baked_eval.hpp"
+#include "core/atomic_file.hpp"
 #include "core/h5.hpp"
 #include "core/jet_layout.hpp"
 #include "cpu/network_eval.hpp"
@@ -22,8 +23,10 @@ std::vector<double> axis_grid(double lo, double hi, double extend, int n) {
 
 }  // namespace
 
-void write_plot_data(const std::string& path, const std::optional<Model>& model, const BakedModel& baked,
-                     const std::optional<Dataset>& ds) {
+namespace {
+
+void write_plot_data_to(const std::string& path, const std::optional<Model>& model, const BakedModel& baked,
+                        const std::optional<Dataset>& ds) {
   h5::Node root = h5::create_file(path);
   root.set_attr("format", "yarnhom-plotdata");
   if (model) {
@@ -129,5 +132,15 @@ void write_plot_data(const std::string& path, const std::optional<Model>& model,
   }
 }
 
+
+}  // namespace
+
+// Atomic like every other output, so that an interrupted plot never leaves half a file.
+void write_plot_data(const std::string& path, const std::optional<Model>& model, const BakedModel& baked,
+                     const std::optional<Dataset>& ds) {
+  AtomicOutput out(path);
+  write_plot_data_to(out.temp_path(), model, baked, ds);
+  out.commit();
+}
 
 }  // namespace yarnhom

@@ -169,14 +169,17 @@ BakedModel read_baked(const std::string& path) {
     if (t.knots.size() != size_t(term.dim()))
       g.fail(g.path(), "attribute knots must have " + std::to_string(term.dim()) + " entries");
     std::vector<hsize_t> dims;
+    const int max_knots = term.dim() == 1 ? kMaxKnots1D : kMaxKnots2D;
     for (int k : t.knots) {
       if (k < 2) g.fail(g.path(), "fewer than 2 knots on an axis");
+      if (k > max_knots)
+        g.fail(g.path(), "attribute knots: " + std::to_string(k) + " knots on an axis, more than the " +
+                             std::to_string(max_knots) + " a " + std::to_string(term.dim()) + "D table may have");
       dims.push_back(hsize_t(k));
     }
+    // The arrays' declared shapes are checked against the knot counts before they are read.
     auto read = [&](const std::string& name, const std::vector<hsize_t>& want) {
-      auto a = g.read_double(name);
-      if (a.dims != want) g.fail(g.child_path(name), "wrong shape for the knot counts in attribute knots");
-      return a.data;
+      return g.read_double(name, std::vector<int64_t>(want.begin(), want.end())).data;
     };
     t.f = read("f", dims);
     t.f_x = read("f_x", dims);

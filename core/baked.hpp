@@ -91,6 +91,9 @@ inline constexpr const char* kBakedFormat = "yarnhom-baked";
 // A file baked before then whose boundary curved down disagrees with the recomputed
 // coefficients, and the evaluator says so (bake it again).
 inline constexpr int kBakedVersion = 1;
+// The most knots per axis a table may have (bake's --res1d and --res2d limits).
+inline constexpr int kMaxKnots1D = 1000000;
+inline constexpr int kMaxKnots2D = 10000;
 
 // True when the file is HDF5 with the baked format tag (false for a model file, or any other).
 bool is_baked_file(const std::string& path);

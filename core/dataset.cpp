@@ -81,7 +81,10 @@ Dataset read_dataset(const std::string& path) {
   if (rest.has_attr("lattice_original")) ds.lattice_original = rest.attr_doubles("lattice_original");
   if (rest.has_attr("lattice_relaxed")) ds.lattice_relaxed = rest.attr_doubles("lattice_relaxed");
   if (rest.has_attr("grad0")) ds.grad0 = rest.attr_doubles("grad0");
-  if (rest.has("q")) ds.rest_q = rest.read_double("q").data;
+  if (rest.has("q")) {
+    ds.rest_q = rest.read_double("q", {-1}).data;
+    check_finite(ds.rest_q, path, "/rest/q");
+  }
   h5::Node terms = root.group("terms");
   for (const std::string& name : terms.children()) {
     TermData t;
@@ -95,24 +98,20 @@ Dataset read_dataset(const std::string& path) {
     auto indices = g.attr_ints("indices");
     if (indices != t.term.indices)
       g.fail(g.path(), "attribute indices does not match the term's strain indices");
-    auto strain = g.read_double("strain");
-    if (strain.dims.size() != 2 || strain.dims[1] != d)
-      g.fail(g.child_path("strain"), "wrong shape: expected [N, " + std::to_string(d) + "]");
-    t.n = static_cast<int>(strain.dims[0]);
-    t.strain = std::move(strain.data);
-    auto energy = g.read_double("energy");
-    if (energy.dims.size() != 1 || energy.dims[0] != size_t(t.n))
-      g.fail(g.child_path("energy"), "wrong shape: expected [" + std::to_string(t.n) + "]");
-    t.energy = std::move(energy.data);
-    auto grad = g.read_double("gradient");
-    if (grad.dims.size() != 2 || grad.dims[0] != size_t(t.n) || grad.dims[1] != d)
-      g.fail(g.child_path("gradient"),
-             "wrong shape: expected [" + std::to_string(t.n) + ", " + std::to_string(d) + "]");
-    t.gradient = std::move(grad.data);
-    auto raw = g.read_double("raw");
-    if (raw.dims.size() != 1 || raw.dims[0] != size_t(t.n))
-      g.fail(g.child_path("raw"), "wrong shape: expected [" + std::to_string(t.n) + "]");
-    t.raw = std::move(raw.data);
+    // N comes from the strain's declared shape; every other array must declare the same N,
+    // checked before anything is read.
+    const auto sdims = g.shape("strain");
+    if (sdims.size() != 2 || sdims[1] != d)
+      g.fail(g.child_path("strain"), "wrong shape " + h5::shape_string(sdims) + ", expected [N, " + std::to_string(d) + "]");
+    if (sdims[0] > kMaxSamples)
+      g.fail(g.child_path("strain"), "declares " + std::to_string(sdims[0]) + " samples, more than the " +
+                                         std::to_string(kMaxSamples) + " a term may have");
+    const int64_t N = static_cast<int64_t>(sdims[0]), D = static_cast<int64_t>(d);
+    t.n = static_cast<int>(N);
+    t.strain = g.read_double("strain", {N, D}).data;
+    t.energy = g.read_double("energy", {N}).data;
+    t.gradient = g.read_double("gradient", {N, D}).data;
+    t.raw = g.read_double("raw", {N}).data;
     t.lower = g.attr_doubles("lower");
     t.upper = g.attr_doubles("upper");
     ds.terms.push_back(std::move(t));

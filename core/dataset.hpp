@@ -50,6 +50,8 @@ struct Dataset {
 
 inline constexpr const char* kDatasetFormat = "yarnhom-dataset";
 inline constexpr int kDatasetVersion = 1;
+// The most samples one term may have (the paper preset has 961 per 2D term).
+inline constexpr size_t kMaxSamples = 10000000;
 
 // Reads and validates; throws FileError naming the file, the object and the problem for a
 // missing or non-HDF5 file, a wrong format tag, missing groups, wrong shapes, non-finite

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "core/file_checks.hpp"
+
 namespace yarnhom::h5 {
 namespace {
 
@@ -44,8 +46,7 @@ std::shared_ptr<hid_t> own(hid_t id, herr_t (*close)(hid_t)) {
 
 Node open_file(const std::string& path) {
   silence_hdf5();
-  struct stat st;
-  if (::stat(path.c_str(), &st) != 0) throw FileError(path, "", "no such file");
+  check_input_file(path);  // a FIFO would block H5Fis_hdf5 forever
   if (H5Fis_hdf5(path.c_str()) <= 0) throw FileError(path, "", "not an HDF5 file (or truncated)");
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f < 0) throw FileError(path, "", "cannot open as HDF5 (truncated or corrupt?)");
@@ -141,36 +142,81 @@ void Node::write(const std::string& name, const std::vector<int>& data,
   write_raw(name, H5T_NATIVE_INT, H5T_STD_I32LE, data.data(), data.size(), dims);
 }
 
+std::string shape_string(const std::vector<hsize_t>& dims) {
+  std::string s = "[";
+  for (size_t k = 0; k < dims.size(); ++k) s += (k ? ", " : "") + std::to_string(dims[k]);
+  return s + "]";
+}
+
+namespace {
+std::string expect_string(const std::vector<int64_t>& e) {
+  std::string s = "[";
+  for (size_t k = 0; k < e.size(); ++k) s += (k ? ", " : "") + (e[k] < 0 ? std::string("any") : std::to_string(e[k]));
+  return s + "]";
+}
+}  // namespace
+
+std::vector<hsize_t> Node::shape(const std::string& name) const {
+  if (!has(name)) fail(child_path(name), "missing dataset");
+  Scoped ds(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!ds.ok()) fail(child_path(name), "not a dataset");
+  Scoped space(H5Dget_space(ds.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0 || rank > 32) fail(child_path(name), "cannot read its shape");
+  std::vector<hsize_t> dims(rank);
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  return dims;
+}
+
 template <class T>
-Array<T> Node::read_raw(const std::string& name, hid_t mem_type) const {
+Array<T> Node::read_raw(const std::string& name, hid_t mem_type, const std::vector<int64_t>& expect) const {
   if (!has(name)) fail(child_path(name), "missing dataset");
   Scoped ds(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), H5Dclose);
   if (!ds.ok()) fail(child_path(name), "not a dataset");
   Scoped type(H5Dget_type(ds.get()), H5Tclose);
   H5T_class_t cls = H5Tget_class(type.get());
   if (cls != H5T_FLOAT && cls != H5T_INTEGER) fail(child_path(name), "not a numeric dataset");
-  Scoped space(H5Dget_space(ds.get()), H5Sclose);
-  int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0) fail(child_path(name), "cannot read its shape");
   Array<T> a;
-  a.dims.resize(rank);
-  H5Sget_simple_extent_dims(space.get(), a.dims.data(), nullptr);
-  size_t n = 1;
-  for (hsize_t d : a.dims) n *= d;
+  a.dims = shape(name);
+  if (!expect.empty()) {
+    bool ok = expect.size() == a.dims.size();
+    for (size_t k = 0; ok && k < expect.size(); ++k) ok = expect[k] < 0 || uint64_t(expect[k]) == a.dims[k];
+    if (!ok) fail(child_path(name), "wrong shape " + shape_string(a.dims) + ", expected " + expect_string(expect));
+  }
+  uint64_t n = 1;
+  for (hsize_t d : a.dims) {
+    if (d > 0 && n > kMaxElements / d)
+      fail(child_path(name), "declares " + shape_string(a.dims) + " values, more than the " +
+                                 std::to_string(kMaxElements) + " a dataset may hold");
+    n *= d;
+  }
+  if (n > kMaxElements)
+    fail(child_path(name), "declares " + std::to_string(n) + " values, more than the " + std::to_string(kMaxElements) +
+                               " a dataset may hold");
+  // Without compression filters the file must store every declared byte; fewer means a
+  // truncated or corrupt file (HDF5 would return fill values for what is missing).
+  {
+    Scoped dcpl(H5Dget_create_plist(ds.get()), H5Pclose);
+    const size_t elem = H5Tget_size(type.get());
+    if (n > 0 && dcpl.ok() && H5Pget_nfilters(dcpl.get()) == 0 && elem > 0 &&
+        H5Dget_storage_size(ds.get()) < n * elem)
+      fail(child_path(name), "declares " + shape_string(a.dims) + " values but the file stores only " +
+                                 std::to_string(H5Dget_storage_size(ds.get())) + " bytes of them (truncated or corrupt file?)");
+  }
   a.data.resize(n);
   if (n > 0 && H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.data.data()) < 0)
     fail(child_path(name), "cannot read data (truncated file?)");
   return a;
 }
 
-Array<double> Node::read_double(const std::string& name) const {
-  return read_raw<double>(name, H5T_NATIVE_DOUBLE);
+Array<double> Node::read_double(const std::string& name, const std::vector<int64_t>& expect) const {
+  return read_raw<double>(name, H5T_NATIVE_DOUBLE, expect);
 }
-Array<float> Node::read_float(const std::string& name) const {
-  return read_raw<float>(name, H5T_NATIVE_FLOAT);
+Array<float> Node::read_float(const std::string& name, const std::vector<int64_t>& expect) const {
+  return read_raw<float>(name, H5T_NATIVE_FLOAT, expect);
 }
-Array<int> Node::read_int(const std::string& name) const {
-  return read_raw<int>(name, H5T_NATIVE_INT);
+Array<int> Node::read_int(const std::string& name, const std::vector<int64_t>& expect) const {
+  return read_raw<int>(name, H5T_NATIVE_INT, expect);
 }
 
 bool Node::has_attr(const std::string& name) const {
@@ -228,10 +274,18 @@ std::string Node::attr_string(const std::string& name) const {
   Scoped type(H5Aget_type(a.get()), H5Tclose);
   if (H5Tget_class(type.get()) != H5T_STRING)
     fail(path_, "attribute '" + name + "' is not a string");
+  {
+    Scoped space(H5Aget_space(a.get()), H5Sclose);
+    if (H5Sget_simple_extent_npoints(space.get()) != 1)
+      fail(path_, "attribute '" + name + "' is not a single string");
+  }
   std::string out;
   if (H5Tis_variable_str(type.get()) > 0) {
+    // h5py writes str attributes as variable-length UTF-8: read them in their own character
+    // set (HDF5 does not convert between ASCII and UTF-8).
     Scoped mem(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(mem.get(), H5T_VARIABLE);
+    H5Tset_cset(mem.get(), H5Tget_cset(type.get()));
     char* s = nullptr;
     if (H5Aread(a.get(), mem.get(), &s) < 0) fail(path_, "cannot read attribute '" + name + "'");
     out = s ? s : "";
@@ -252,6 +306,9 @@ std::vector<T> Node::attr_raw(const std::string& name, hid_t mem_type) const {
   Scoped a(H5Aopen(id(), name.c_str(), H5P_DEFAULT), H5Aclose);
   Scoped space(H5Aget_space(a.get()), H5Sclose);
   hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0 || uint64_t(n) > kMaxAttributeElements)
+    fail(path_, "attribute '" + name + "' has " + std::to_string(n) + " entries, more than the " +
+                    std::to_string(kMaxAttributeElements) + " an attribute may hold");
   std::vector<T> v(n > 0 ? n : 0);
   if (n > 0 && H5Aread(a.get(), mem_type, v.data()) < 0)
     fail(path_, "cannot read attribute '" + name + "' as a number");

@@ -37,10 +37,16 @@ class Node {
              const std::vector<hsize_t>& dims) const;
   void write(const std::string& name, const std::vector<int>& data,
              const std::vector<hsize_t>& dims) const;
-  // Read a dataset converting to T (HDF5 converts float <-> double on read).
-  Array<double> read_double(const std::string& name) const;
-  Array<float> read_float(const std::string& name) const;
-  Array<int> read_int(const std::string& name) const;
+  // Read a dataset converting to T (HDF5 converts float <-> double on read). Before any data
+  // is read, the declared shape is checked: against `expect` when given (one entry per
+  // dimension, -1 for "any"), against kMaxElements, and against the bytes the file actually
+  // stores, so that a corrupt or hostile file that declares 2^40 values is refused at once,
+  // naming the file and the dataset, instead of allocating them.
+  Array<double> read_double(const std::string& name, const std::vector<int64_t>& expect = {}) const;
+  Array<float> read_float(const std::string& name, const std::vector<int64_t>& expect = {}) const;
+  Array<int> read_int(const std::string& name, const std::vector<int64_t>& expect = {}) const;
+  // The declared shape of a dataset, without reading it.
+  std::vector<hsize_t> shape(const std::string& name) const;
 
   // Attributes.
   bool has_attr(const std::string& name) const;
@@ -71,7 +77,7 @@ class Node {
   void write_raw(const std::string& name, hid_t mem_type, hid_t file_type, const void* data,
                  size_t count, const std::vector<hsize_t>& dims) const;
   template <class T>
-  Array<T> read_raw(const std::string& name, hid_t mem_type) const;
+  Array<T> read_raw(const std::string& name, hid_t mem_type, const std::vector<int64_t>& expect) const;
   template <class T>
   std::vector<T> attr_raw(const std::string& name, hid_t mem_type) const;
 
@@ -79,7 +85,17 @@ class Node {
   std::string file_, path_;
 };
 
-// Open for reading; refuses a missing file or one that is not HDF5, naming it.
+// The most values one dataset may declare (2^28: 2 GiB of doubles; the project's largest, a
+// 10000 x 10000 baked table, has 1e8).
+inline constexpr uint64_t kMaxElements = uint64_t(1) << 28;
+// The most entries one numeric attribute may have.
+inline constexpr uint64_t kMaxAttributeElements = uint64_t(1) << 20;
+
+// "[3, 4]" for messages.
+std::string shape_string(const std::vector<hsize_t>& dims);
+
+// Open for reading; refuses a missing file, one that is not a regular file (a FIFO would block
+// the reader) or one that is not HDF5, naming it.
 Node open_file(const std::string& path);
 // Create (truncate) for writing.
 Node create_file(const std::string& path);

@@ -30,18 +30,29 @@ void write_history(const h5::Node& g, const History& h) {
   }
 }
 
+// Every curve has one value per epoch: their common length comes from train_loss's declared
+// shape, and the others must declare the same before they are read.
 History read_history(const h5::Node& g) {
   History h;
-  h.train_loss = g.read_double("train_loss").data;
-  h.val_loss = g.read_double("val_loss").data;
-  h.lr = g.read_double("lr").data;
-  h.loss_z = g.read_double("L_Z").data;
-  h.loss_f = g.read_double("L_F").data;
-  h.loss_c = g.read_double("L_C").data;
-  h.loss_s = g.read_double("L_S").data;
+  const auto dims = g.shape("train_loss");
+  if (dims.size() != 1) g.fail(g.child_path("train_loss"), "wrong shape " + h5::shape_string(dims) + ", expected [epochs]");
+  const int64_t E = static_cast<int64_t>(dims[0]);
+  h.train_loss = g.read_double("train_loss", {E}).data;
+  h.val_loss = g.read_double("val_loss", {E}).data;
+  h.lr = g.read_double("lr", {E}).data;
+  h.loss_z = g.read_double("L_Z", {E}).data;
+  h.loss_f = g.read_double("L_F", {E}).data;
+  h.loss_c = g.read_double("L_C", {E}).data;
+  h.loss_s = g.read_double("L_S", {E}).data;
   if (g.has("polish_train_loss")) h.polish_train = g.read_double("polish_train_loss").data;
   if (g.has("polish_val_loss")) h.polish_val = g.read_double("polish_val_loss").data;
   return h;
+}
+
+void check_number(const h5::Node& g, const char* what, double v, bool positive) {
+  if (!std::isfinite(v) || (positive && !(v > 0)))
+    g.fail(g.path(), std::string("attribute ") + what + " must be " + (positive ? "positive and finite" : "finite") +
+                         ", is " + std::to_string(v));
 }
 
 }  // namespace
@@ -106,11 +117,21 @@ Model read_model(const std::string& path) {
       root.fail("/", "areal_density must be positive and finite (absent when unknown)");
   }
   h5::Node nets = root.group("networks");
+  // A network under a name that is no term would be dropped without a word: refuse it.
+  for (const std::string& name : nets.children()) {
+    try {
+      term_by_name(name);
+    } catch (const std::invalid_argument& e) {
+      nets.fail("/networks/" + name, e.what());
+    }
+  }
   for (const Term& term : all_terms()) {
     if (!nets.has(term.name)) continue;
     h5::Node g = nets.group(term.name);
     ModelNetwork n;
     n.term = term;
+    if (g.has_attr("indices") && g.attr_ints("indices") != term.indices)
+      g.fail(g.path(), "attribute indices does not match the term name");
     n.lower = g.attr_doubles("lower");
     n.upper = g.attr_doubles("upper");
     n.desc.input_dim = term.dim();
@@ -129,20 +150,33 @@ Model read_model(const std::string& path) {
     if (n.lower.size() != d || n.upper.size() != d || n.norm.center.size() != d ||
         n.norm.halfwidth.size() != d)
       g.fail(g.path(), "box or normalization attributes do not have " + std::to_string(d) + " entries");
+    // The normalization maps the box to [-1, 1]^d and the energies to unit spread: a zero or
+    // non-finite scale is a constant or broken model, not one to evaluate.
+    for (size_t k = 0; k < d; ++k) {
+      check_number(g, "lower", n.lower[k], false);
+      check_number(g, "upper", n.upper[k], false);
+      if (!(n.lower[k] < n.upper[k])) g.fail(g.path(), "empty box: lower must be below upper");
+      check_number(g, "in_center", n.norm.center[k], false);
+      check_number(g, "in_halfwidth", n.norm.halfwidth[k], true);
+    }
+    check_number(g, "out_mean", n.norm.out_mean, false);
+    check_number(g, "out_std", n.norm.out_std, true);
     n.weights.z = g.attr_double("w_Z");
     n.weights.f = g.attr_double("w_F");
     n.weights.c = g.attr_double("w_C");
     n.weights.s = g.attr_double("w_S");
     n.weights.x = g.attr_double("w_X");
-    n.epochs = static_cast<int>(g.attr_int("epochs"));
+    const int64_t epochs = g.attr_int("epochs");
+    if (epochs < 0 || epochs > 1000000000) g.fail(g.path(), "attribute epochs out of range: " + std::to_string(epochs));
+    n.epochs = static_cast<int>(epochs);
     n.backend = g.attr_string("backend");
     n.status = g.attr_string("status");
     n.params.resize(n.desc.num_params());
     for (int k = 0; k < n.desc.num_layers(); ++k) {
       const std::string l = "layer" + std::to_string(k);
-      auto w = g.read_float(l + "/W");
-      auto b = g.read_float(l + "/b");
       const size_t out_k = n.desc.layer_out(k), in_k = n.desc.layer_in(k);
+      auto w = g.read_float(l + "/W", {int64_t(out_k), int64_t(in_k)});
+      auto b = g.read_float(l + "/b", {int64_t(out_k)});
       if (w.dims != std::vector<hsize_t>{out_k, in_k})
         g.fail(g.child_path(l + "/W"), "wrong shape: expected [" + std::to_string(out_k) + ", " +
                                            std::to_string(in_k) + "]");

@@ -35,6 +35,7 @@ struct NetworkDesc {
   void validate() const {
     if (input_dim != 1 && input_dim != 2) throw std::invalid_argument("input dimension must be 1 or 2");
     if (hidden.empty()) throw std::invalid_argument("at least one hidden layer");
+    if (hidden.size() > 16) throw std::invalid_argument("at most 16 hidden layers");
     for (int h : hidden)
       if (h < 1 || h > 1024) throw std::invalid_argument("hidden sizes must be in 1..1024");
     if (activation != "sigmoid") throw std::invalid_argument("only the sigmoid activation is implemented");

@@ -1,6 +1,7 @@
 #include "core/terms.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace yarnhom {
@@ -23,7 +24,8 @@ const Term& term_by_name(std::string_view name) {
 }
 
 std::vector<Term> parse_term_list(std::string_view list) {
-  if (list.empty() || list == "all") return all_terms();
+  if (list == "all") return all_terms();
+  if (list.empty()) throw std::invalid_argument("empty term list (give terms such as 0,02 or 'all')");
   std::vector<bool> want(all_terms().size(), false);
   size_t start = 0;
   while (start <= list.size()) {
@@ -41,6 +43,20 @@ std::vector<Term> parse_term_list(std::string_view list) {
     if (want[i]) out.push_back(all_terms()[i]);
   if (out.empty()) throw std::invalid_argument("empty term list");
   return out;
+}
+
+std::string strain_domain_violation(int i, double v) {
+  const std::string name = i >= 0 && i < kStrainDim ? kStrainSymbols[i] : "strain";
+  if (!std::isfinite(v)) return name + " must be finite";
+  switch (i) {
+    case 0:
+    case 2: return v > -1 && v <= 10 ? "" : name + " must lie in (-1, 10] (a stretch)";
+    case 1: return v > -1 && v < 1 ? "" : name + " must lie in (-1, 1) (the cosine of the angle between the axes)";
+    case 3:
+    case 4:
+    case 5: return std::abs(v) <= 1e6 ? "" : name + " must lie within +-1e6 1/m (a curvature)";
+    default: return "strain index out of range 0..5";
+  }
 }
 
 Range default_range(int i, double bend_x, double bend_y) {

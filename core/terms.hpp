@@ -26,8 +26,15 @@ const std::vector<Term>& all_terms();
 // The term with this name; throws std::invalid_argument naming the valid ones otherwise.
 const Term& term_by_name(std::string_view name);
 
-// Parses "0,02,15" (or "all") into terms, in catalogue order, without duplicates.
+// Parses "0,02,15" (or "all") into terms, in catalogue order, without duplicates; an empty
+// list (or one of only commas) is refused.
 std::vector<Term> parse_term_list(std::string_view list);
+
+// Where a strain component means something, for every strain the program reads (points,
+// boxes): stretches s_x, s_y in (-1, 10] (a stretch ratio between 0 and 11), the shear cosine
+// s_a in (-1, 1), curvatures within +-1e6 1/m (a radius of curvature of one micrometre).
+// Returns "" when v is allowed, else the rule, naming the component ("s_x must lie in (-1, 10]").
+std::string strain_domain_violation(int strain_index, double v);
 
 // HYLC's default sampling box of one strain component (spec section 2), with the bending
 // range k (1/m) given, since it depends on the pattern.

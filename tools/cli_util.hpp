@@ -1,12 +1,20 @@
 #pragma once
-// Small helpers shared by the subcommands: number lists, thread counts, time formatting.
+// Small helpers shared by the subcommands: number lists, option validators, output checks,
+// thread counts, time formatting.
+#include <CLI/CLI.hpp>
 #include <omp.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "core/atomic_file.hpp"
+#include "core/file_checks.hpp"
+#include "core/terms.hpp"
+#include "train/backend.hpp"
 
 namespace yarnhom::tools {
 
@@ -25,19 +33,115 @@ inline std::vector<double> parse_numbers(const std::string& text, const std::str
       throw std::invalid_argument(what + ": '" + item + "' is not a number");
     }
     if (used != item.size()) throw std::invalid_argument(what + ": '" + item + "' is not a number");
+    // NaN and infinity are never a meaningful strain, size or coordinate.
+    if (!std::isfinite(x)) throw std::invalid_argument(what + ": '" + item + "' is not a finite number");
     v.push_back(x);
     start = end + 1;
   }
   return v;
 }
 
-inline std::vector<int> parse_ints(const std::string& text, const std::string& what) {
+inline std::vector<int> parse_ints(const std::string& text, const std::string& what, int max = 1000000) {
   std::vector<int> out;
   for (double x : parse_numbers(text, what)) {
-    if (x != int(x) || x < 1) throw std::invalid_argument(what + ": expected positive integers");
+    if (!(x >= 1 && x <= max) || x != std::floor(x))
+      throw std::invalid_argument(what + ": expected positive integers up to " + std::to_string(max));
     out.push_back(int(x));
   }
   return out;
+}
+
+// Option validators. CLI11's PositiveNumber and Range let NaN through (it compares false with
+// everything) and accept infinity as a number; these refuse both.
+inline CLI::Validator finite_range(double lo, double hi, const std::string& rule) {
+  return CLI::Validator(
+      [lo, hi, rule](std::string& in) -> std::string {
+        double v;
+        if (!CLI::detail::lexical_cast(in, v) || !std::isfinite(v)) return "'" + in + "' is not a finite number";
+        if (v < lo || v > hi) return "'" + in + "' is out of range: " + rule;
+        return "";
+      },
+      rule);
+}
+inline CLI::Validator finite_positive() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        double v;
+        if (!CLI::detail::lexical_cast(in, v) || !std::isfinite(v)) return "'" + in + "' is not a finite number";
+        if (!(v > 0)) return "'" + in + "' must be positive";
+        return "";
+      },
+      "> 0");
+}
+inline CLI::Validator finite_non_negative() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        double v;
+        if (!CLI::detail::lexical_cast(in, v) || !std::isfinite(v)) return "'" + in + "' is not a finite number";
+        if (!(v >= 0)) return "'" + in + "' must not be negative";
+        return "";
+      },
+      ">= 0");
+}
+// A list option that must name something: "--terms ''" used to mean "all terms".
+inline CLI::Validator non_empty() {
+  return CLI::Validator([](std::string& in) -> std::string { return in.empty() ? "must not be empty" : ""; }, "");
+}
+// An input file: must exist and be a regular file (a FIFO would block the reader).
+inline CLI::Validator existing_regular_file() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        try {
+          check_input_file(in);
+        } catch (const std::exception& e) {
+          return e.what();
+        }
+        return "";
+      },
+      "FILE");
+}
+// A term list ("0,02,15" or "all"; one term when single): refused at parse time when empty or
+// naming an unknown term.
+inline CLI::Validator term_list_validator(bool single = false) {
+  return CLI::Validator(
+      [single](std::string& in) -> std::string {
+        if (in.empty()) return "empty term list (give terms such as 0,02 or 'all')";
+        try {
+          if (single) term_by_name(in);
+          else parse_term_list(in);
+        } catch (const std::exception& e) {
+          return e.what();
+        }
+        return "";
+      },
+      single ? "TERM" : "TERMS");
+}
+// A training backend this build has.
+inline CLI::Validator backend_validator() {
+  return CLI::Validator(
+      [](std::string& in) -> std::string {
+        std::string list;
+        for (const std::string& b : available_backends()) {
+          if (b == in) return "";
+          list += (list.empty() ? "" : ", ") + b;
+        }
+        return "unknown or unavailable backend '" + in + "' (this build has: " + list + ")";
+      },
+      "NAME");
+}
+// Threads: 0 means all cores; more than 1024 is a typo, not a machine.
+inline constexpr int kMaxThreads = 1024;
+
+// Before any work: refuses an output that must not be written (core/file_checks.hpp: a folder,
+// a device, a FIFO, an input of the command, an uncreatable path) and removes the temporaries
+// that killed runs left beside it, saying so. Returns the file that will be written (the
+// target of a symbolic link).
+inline std::string prepare_output(const std::string& path, const std::vector<std::string>& inputs,
+                                  const std::string& option = "-o") {
+  const std::string target = check_output_file(path, inputs, option);
+  for (const std::string& t : AtomicOutput::remove_stale_temporaries(path))
+    std::fprintf(stderr, "yarnhom: removed %s, a temporary file left by an interrupted run\n", t.c_str());
+  return target;
 }
 
 inline int default_threads() { return omp_get_num_procs(); }

@@ -259,17 +259,22 @@ void register_accuracy(CLI::App& app) {
   cmd->add_option("--size", o->size, "Yarn strip width,length in metres (the paper: 0.05,0.10; sim stretch's continuum strip is always 5 cm x 10 cm)")->capture_default_str();
   cmd->add_option("--stretch", o->stretch, "Stretch ratios 1.0:1.7:STEP (the paper: 1.0:1.7:0.05, 15 tests; sim stretch runs 100 % to 170 %)")
       ->capture_default_str();
-  cmd->add_option("--dataset", o->dataset, "Reuse this dataset instead of producing one")->check(CLI::ExistingFile);
-  cmd->add_option("--baked", o->baked, "Reuse this baked neural material instead of training and baking")->check(CLI::ExistingFile);
-  cmd->add_option("--epochs", o->epochs, "train-all's epochs per network (0: its default)")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Threads for produce and train-all (0: all cores)")->capture_default_str();
+  cmd->add_option("--dataset", o->dataset, "Reuse this dataset instead of producing one")->check(existing_regular_file());
+  cmd->add_option("--baked", o->baked, "Reuse this baked neural material instead of training and baking")->check(existing_regular_file());
+  cmd->add_option("--epochs", o->epochs, "train-all's epochs per network (0: its default)")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Threads for produce and train-all (0: all cores)")
+      ->check(CLI::Range(0, kMaxThreads))
+      ->capture_default_str();
   cmd->add_option("--spacing", o->spacing, "Surface sampling of the Hausdorff distance, metres")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_positive())
       ->capture_default_str();
   cmd->add_option("--strip-args", o->strip_args, "Extra arguments for strip (one string, split at spaces)");
   cmd->add_option("--sim-args", o->sim_args, "Extra arguments for sim stretch (one string, split at spaces)");
   cmd->add_flag("--force", o->force, "Rerun every stage");
   cmd->callback([o, root] {
+    check_output_folder(o->out);
     for (const char* need : {"produce", "strip", "sim"}) {
       if (std::string(need) == "produce" && !o->dataset.empty()) continue;
       bool have = false;

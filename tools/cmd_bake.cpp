@@ -9,7 +9,9 @@
 #include "bake/bake_table.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
+#include "core/error.hpp"
 #include "core/model.hpp"
+#include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 
 namespace yarnhom::tools {
@@ -20,9 +22,13 @@ namespace {
 std::string find_dataset(const std::string& model_path, const std::string& dataset) {
   namespace fs = std::filesystem;
   if (dataset.empty()) return "";
-  if (fs::exists(dataset)) return dataset;
   const fs::path beside = fs::path(model_path).parent_path() / fs::path(dataset).filename();
-  return fs::exists(beside) ? beside.string() : "";
+  const std::string found = fs::exists(dataset) ? dataset : fs::exists(beside) ? beside.string() : "";
+  // A FIFO or device named by the attribute would block the reader: refuse it, naming both.
+  if (!found.empty() && !fs::is_regular_file(found))
+    throw FileError(model_path, "attribute dataset",
+                    "names " + found + ", which is not a regular file; give the dataset with --data");
+  return found;
 }
 
 }  // namespace
@@ -44,23 +50,25 @@ void register_bake(CLI::App& app) {
       "wide, and where its boundary curvature is negative the continuation uses 0; the table "
       "says per term where this departs from the paper's quadratic. The baked file is what a "
       "cloth simulator loads (docs/bake.md).");
-  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(CLI::ExistingFile);
+  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(existing_regular_file());
   cmd->add_option("-o,--output", o->out, "Baked file to write (HDF5, written atomically)")->required();
   cmd->add_option("--res1d", o->res1d, "Knots of a 1D table (the paper: 200)")->check(CLI::Range(2, 1000000))->capture_default_str();
   cmd->add_option("--res2d", o->res2d, "Knots per axis of a 2D table (the paper: 100)")->check(CLI::Range(2, 10000))->capture_default_str();
   cmd->add_option("--data", o->data,
                   "Dataset whose Psi0 (rest energy) to store for the full material; default: the "
                   "model's own dataset when it can be found")
-      ->check(CLI::ExistingFile);
+      ->check(existing_regular_file());
   cmd->add_flag("--no-check", o->no_check, "Skip measuring each table against its network");
   cmd->callback([o] {
     const auto t0 = std::chrono::steady_clock::now();
+    prepare_output(o->out, {o->model, o->data});
     Model model = read_model(o->model);
     double psi0 = 0;
     bool known = false;
     const std::string data = o->data.empty() ? find_dataset(o->model, model.dataset) : o->data;
     double areal_density = model.areal_density;
     if (!data.empty()) {
+      check_output_file(o->out, {data});
       const Dataset ds = read_dataset(data);
       psi0 = ds.psi0;
       known = true;

@@ -15,7 +15,9 @@
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/fit_metrics.hpp"
+#include "core/atomic_file.hpp"
 #include "core/model.hpp"
+#include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 
 namespace yarnhom::tools {
@@ -101,18 +103,23 @@ void register_error(CLI::App& app) {
       "supplement Eq. 5 per term and E of Eq. 4; the fit error against the data (energy and "
       "gradient, absolute and relative); for a baked file its deviation from the network. "
       "--compare adds the supplement Table 4 analogue (bake resolutions against the network).");
-  cmd->add_option("FILE", o->file, "Model file (train-all) or baked file (bake)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--data", o->data, "Dataset (default: the one the file names, if found)")->check(CLI::ExistingFile);
+  cmd->add_option("FILE", o->file, "Model file (train-all) or baked file (bake)")->required()->check(existing_regular_file());
+  cmd->add_option("--data", o->data, "Dataset (default: the one the file names, if found)")->check(existing_regular_file());
   cmd->add_option("--model", o->model,
                   "For a baked file: the model to measure its deviation against (default: the one "
                   "it was baked from, if found)")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--terms", o->terms, "Terms to measure, e.g. 0,02 (default all)")->capture_default_str();
-  cmd->add_option("--samples", o->samples, "Samples per neighbourhood in Eq. 5 (a square in 2D)")->capture_default_str();
+      ->check(existing_regular_file());
+  cmd->add_option("--terms", o->terms, "Terms to measure, e.g. 0,02 (default all)")
+      ->check(term_list_validator())
+      ->capture_default_str();
+  cmd->add_option("--samples", o->samples, "Samples per neighbourhood in Eq. 5 (a square in 2D)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
   cmd->add_flag("--compare", o->compare, "Also print the bake-resolution table (needs the model)");
-  cmd->add_option("--csv", o->csv, "Also write the per-term rows to this CSV file");
+  cmd->add_option("--csv", o->csv, "Also write the per-term rows to this CSV file (written atomically)");
   cmd->callback([o] {
     const auto t0 = std::chrono::steady_clock::now();
+    if (!o->csv.empty()) prepare_output(o->csv, {o->file, o->data, o->model}, "--csv");
     const bool baked = is_baked_file(o->file);
     std::optional<Model> model;
     std::optional<BakedModel> bm;
@@ -129,6 +136,7 @@ void register_error(CLI::App& app) {
     }
     const std::string data_path = o->data.empty() ? resolve_beside(model_path.empty() ? o->file : model_path, dataset_name) : o->data;
     std::optional<Dataset> ds;
+    if (!o->csv.empty()) check_output_file(o->csv, {model_path, data_path}, "--csv");
     if (!data_path.empty()) ds = read_dataset(data_path);
     const auto wanted = parse_term_list(o->terms);
 
@@ -266,7 +274,8 @@ void register_error(CLI::App& app) {
                 "network that predicts the mean has a tiny E. Read the fit table above for the fit.\n");
 
     if (!o->csv.empty()) {
-      std::ofstream out(o->csv);
+      AtomicOutput file(o->csv);
+      std::ofstream out(file.temp_path());
       if (!out) throw std::invalid_argument(o->csv + ": cannot write");
       out << "term,n,E_I,E_I_rel,energy_mae,energy_rmse,energy_rel,grad_mae,grad_rel,bake_max_rel,bake_mean_rel,"
              "val_n,val_energy_rel_range,val_grad_rel_mean,all_energy_rel_range,all_grad_rel_mean,fit_ok,verdict,"
@@ -289,6 +298,9 @@ void register_error(CLI::App& app) {
         }
       }
       out << "E,," << E << ",,,,,,,,,,,,,,,,,,\n";
+      out.close();
+      if (!out) throw std::invalid_argument(o->csv + ": write failed");
+      file.commit();
     }
     if (o->compare) {
       if (!model) throw std::invalid_argument("--compare needs the network: give --model MODEL.h5");

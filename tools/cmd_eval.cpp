@@ -1,4 +1,5 @@
 // yarnhom eval: a trained term's energy and derivatives at given strains, as CSV.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <optional>
@@ -19,6 +20,7 @@ namespace {
 // blank lines and lines starting with '#' are skipped, and a first line that is not numeric
 // is taken as a header.
 std::vector<double> read_points_csv(const std::string& path, int d) {
+  check_input_file(path, "--points");
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open");
   std::vector<double> pts;
@@ -74,10 +76,10 @@ void register_eval(CLI::App& app) {
       "derivatives with respect to the term's strain components. MODEL may also be a baked file "
       "(from bake): the same columns from its table, inside or outside the box (safeguard), so "
       "the two can be compared at any strain.");
-  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all, or baked file written by bake")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--term", o->term, "The term, e.g. 02")->required();
+  cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all, or baked file written by bake")->required()->check(existing_regular_file());
+  cmd->add_option("--term", o->term, "The term, e.g. 02")->required()->check(term_list_validator(true));
   cmd->add_option("--at", o->at, "A strain point: d comma-separated values (repeatable)");
-  cmd->add_option("--points", o->points, "CSV file of strain points, one per line")->check(CLI::ExistingFile);
+  cmd->add_option("--points", o->points, "CSV file of strain points, one per line")->check(existing_regular_file());
   cmd->callback([o] {
     // A baked file answers from its table; a model file from its network.
     std::optional<Model> m;
@@ -108,6 +110,24 @@ void register_eval(CLI::App& app) {
     }
     if (pts.empty()) throw std::invalid_argument("no points: give --at or --points");
     const int n = int(pts.size()) / d;
+    auto point_text = [&](int p) {
+      std::string at;
+      char buf[32];
+      for (int i = 0; i < d; ++i) {
+        std::snprintf(buf, sizeof buf, "%s%.6g", i ? "," : "", pts[size_t(p) * d + i]);
+        at += buf;
+      }
+      return at;
+    };
+    // Any finite strain may be evaluated (the baked safeguard is defined everywhere, which is
+    // worth looking at even where no cloth goes), but beyond 1e6 in any component nothing is a
+    // strain or a curvature any more, and the network's or the safeguard's arithmetic overflows.
+    for (int p = 0; p < n; ++p)
+      for (int i = 0; i < d; ++i)
+        if (!(std::abs(pts[size_t(p) * d + i]) <= 1e6))
+          throw std::invalid_argument("strain point " + point_text(p) + " (point " + std::to_string(p + 1) +
+                                      " of --at, then --points): " + kStrainSymbols[term.indices[i]] +
+                                      " must lie within +-1e6");
     std::vector<double> jet;
     if (net) {
       jet = cpu::eval_network_physical(*net, pts.data(), n, 3);
@@ -121,6 +141,16 @@ void register_eval(CLI::App& app) {
         for (int c = 0; c < C; ++c) jet[size_t(c) * n + p] = j[c];
       }
     }
+    // A strain far outside any box (1e308) overflows the network or the safeguard: refuse
+    // it, naming the point, rather than print inf or NaN with exit status 0.
+    const int C = jet_channels(d, 3);
+    for (int p = 0; p < n; ++p)
+      for (int c = 0; c < C; ++c)
+        if (!std::isfinite(jet[size_t(c) * n + p])) {
+          throw std::invalid_argument("strain point " + point_text(p) + " (point " + std::to_string(p + 1) +
+                                      " of --at, then --points) gives a non-finite energy or derivative: it "
+                                      "lies too far outside the term's box");
+        }
     auto names = channel_names(term);
     for (int i = 0; i < d; ++i) std::printf("%s,", kStrainSymbols[term.indices[i]]);
     for (size_t c = 0; c < names.size(); ++c) std::printf("%s%s", names[c].c_str(), c + 1 < names.size() ? "," : "\n");

@@ -7,6 +7,7 @@
 #include "bake/spline_fit.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
+#include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 
 namespace yarnhom::tools {
@@ -26,23 +27,24 @@ void register_fit_splines(CLI::App& app) {
       "terms monotone away from their minimum, 2D terms zero on the axes; linear extrapolation "
       "outside the knots. Writes a baked file that sim, eval and export-hylc read like a baked "
       "network (docs/accuracy.md).");
-  cmd->add_option("DATASET", o->data, "Dataset file (HDF5) written by produce or synth")->required()->check(CLI::ExistingFile);
+  cmd->add_option("DATASET", o->data, "Dataset file (HDF5) written by produce or synth")->required()->check(existing_regular_file());
   cmd->add_option("-o,--output", o->out, "Baked file to write (HDF5, written atomically)")->required();
   cmd->add_option("--knots1d", o->fit.knots1d, "Knots of a 1D spline (HYLC: 11)")->check(CLI::Range(3, 1000))->capture_default_str();
   cmd->add_option("--knots2d", o->fit.knots2d, "Knots per axis of a 2D spline (HYLC: 8 to 10)")->check(CLI::Range(3, 200))->capture_default_str();
   cmd->add_option("--smoothing", o->fit.smoothing,
                   "Weight of the curvature penalty (per sample, energies over their standard "
                   "deviation, strains over the box width)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finite_non_negative())
       ->capture_default_str();
   cmd->add_option("--gradient-weight", o->fit.gradient_weight,
                   "Weight of the gradient residuals against the energy residuals (same units)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finite_non_negative())
       ->capture_default_str();
   cmd->add_flag("--no-monotone", o->no_monotone, "Do not constrain 1D terms to be monotone away from their minimum");
   cmd->callback([o] {
     const auto t0 = std::chrono::steady_clock::now();
     o->fit.monotone = !o->no_monotone;
+    prepare_output(o->out, {o->data});
     const Dataset ds = read_dataset(o->data);
     std::vector<SplineFitReport> reports;
     const BakedModel m = fit_splines(ds, o->data, o->fit, &reports);

@@ -5,6 +5,8 @@
 // Each stage runs as this same program with the stage's subcommand, in a child process, with its
 // output in RUN_DIR/logs/<stage>.log: the stages stay exactly the commands a user can run by
 // hand, and one failing stage cannot leave the pipeline in a half state (outputs are atomic).
+// A stage dies with the pipeline (tools/child_process.hpp): killing the pipeline, even with
+// SIGKILL, never leaves a stage running that would race a rerun.
 //
 // PATTERN "synthetic" uses `synth` (the analytic stand-in, docs/synthetic.md). Any other PATTERN
 // (a .pyp file or a built-in pattern name) goes to the `produce` subcommand (the yarn RVE
@@ -20,6 +22,7 @@
 #include "bake/pipeline_stage.hpp"
 #include "core/fit_metrics.hpp"
 #include "core/model.hpp"
+#include "tools/child_process.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 
@@ -28,12 +31,6 @@ namespace yarnhom::tools {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 struct Stage {
   std::string name;
@@ -62,9 +59,13 @@ void register_pipeline(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "Sampling density: quick or paper")
       ->check(CLI::IsMember({"quick", "paper"}))
       ->capture_default_str();
-  cmd->add_option("--backend", o->backend, "Training backend: cpu or cuda")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "CPU threads for training (0: all cores)")->capture_default_str();
-  cmd->add_option("--epochs", o->epochs, "Epochs per network (0: the paper's 500)")->capture_default_str();
+  cmd->add_option("--backend", o->backend, "Training backend: cpu or cuda")->check(backend_validator())->capture_default_str();
+  cmd->add_option("--threads", o->threads, "CPU threads for training (0: all cores)")
+      ->check(CLI::Range(0, kMaxThreads))
+      ->capture_default_str();
+  cmd->add_option("--epochs", o->epochs, "Epochs per network (0: the paper's 500)")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
   cmd->add_option("--recipe", o->recipe, "Training recipe, as train-all's --recipe: default, paper or improved")
       ->check(CLI::IsMember({"default", "paper", "improved"}))
       ->capture_default_str();
@@ -72,6 +73,8 @@ void register_pipeline(CLI::App& app) {
   cmd->callback([o, parent] {
     const auto t_all = std::chrono::steady_clock::now();
     const fs::path run(o->run);
+    check_output_folder(o->run);
+    if (o->pattern != "synthetic" && fs::exists(o->pattern)) check_input_file(o->pattern, "PATTERN");
     fs::create_directories(run / "logs");
     fs::create_directories(run / ".stages");
     const std::string exe = fs::read_symlink("/proc/self/exe").string();
@@ -123,12 +126,11 @@ void register_pipeline(CLI::App& app) {
       std::printf("  %-10s running (%s) ...", s.name.c_str(), d.reason.c_str());
       std::fflush(stdout);
       const std::string log = (run / "logs" / (s.name + ".log")).string();
-      std::string line = quote(exe);
-      for (const std::string& a : s.args) line += " " + quote(a);
-      // error writes its report to stdout: keep it as the stage's output file too.
-      line += s.name == "error" ? " > " + quote(errors) + " 2> " + quote(log) : " > " + quote(log) + " 2>&1";
+      std::vector<std::string> argv = {exe};
+      argv.insert(argv.end(), s.args.begin(), s.args.end());
       const auto t0 = std::chrono::steady_clock::now();
-      const int rc = std::system(line.c_str());
+      // error writes its report to stdout: keep it as the stage's output file too.
+      const int rc = run_child(argv, s.name == "error" ? errors : log, log);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       times.emplace_back(s.name, secs);
       if (rc != 0 && s.name == "plot") {  // pictures are a bonus: report, do not fail the run

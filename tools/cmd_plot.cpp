@@ -13,6 +13,8 @@
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/model.hpp"
+#include "tools/child_process.hpp"
+#include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 #include "tools/python_env.hpp"
 
@@ -35,12 +37,15 @@ void register_plot(CLI::App& app) {
   cmd->add_option("RUN_DIR", o->run, "Run folder holding model.h5, baked.h5 and dataset.h5 (any may be missing)")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--model", o->model, "Model file (default RUN_DIR/model.h5)");
-  cmd->add_option("--baked", o->baked, "Baked file (default RUN_DIR/baked.h5; baked in memory from the model if absent)");
-  cmd->add_option("--data", o->data, "Dataset (default RUN_DIR/dataset.h5)");
+  cmd->add_option("--model", o->model, "Model file (default RUN_DIR/model.h5)")->check(existing_regular_file());
+  cmd->add_option("--baked", o->baked, "Baked file (default RUN_DIR/baked.h5; baked in memory from the model if absent)")
+      ->check(existing_regular_file());
+  cmd->add_option("--data", o->data, "Dataset (default RUN_DIR/dataset.h5)")->check(existing_regular_file());
   cmd->add_option("-o,--output", o->out, "Folder for the PNGs (default RUN_DIR/plots)");
   cmd->callback([o] {
     const fs::path run(o->run);
+    const fs::path out = o->out.empty() ? run / "plots" : fs::path(o->out);
+    check_output_folder(out.string(), o->out.empty() ? "RUN_DIR/plots" : "-o");
     auto pick = [&](const std::string& given, const char* name) {
       if (!given.empty()) {
         if (!fs::exists(given)) throw std::invalid_argument(given + ": no such file");
@@ -61,9 +66,9 @@ void register_plot(CLI::App& app) {
       baked = bake_model(*model, mp, 200, 100, 0, false);
     }
     if (!baked) throw std::invalid_argument(o->run + ": neither model.h5 nor baked.h5 found (give --model or --baked)");
-    const fs::path out = o->out.empty() ? run / "plots" : fs::path(o->out);
     fs::create_directories(out);
     const std::string data = (out / "plotdata.h5").string();
+    prepare_output(data, {mp, bp, dp}, o->out.empty() ? "RUN_DIR/plots" : "-o");
     write_plot_data(data, model, *baked, ds);
     const std::string py = find_python();
     if (py.empty()) {
@@ -76,10 +81,12 @@ void register_plot(CLI::App& app) {
     }
     const std::string script = (fs::path(scripts_dir()) / "plot" / "plot_run.py").string();
     if (!fs::exists(script)) throw std::invalid_argument(script + ": plot script not found (set YARNHOM_SCRIPTS to the tools folder)");
-    const std::string cmdline = "'" + py + "' '" + script + "' '" + data + "' '" + out.string() + "'";
-    const int rc = std::system(cmdline.c_str());
+    // A child that dies with this process (tools/child_process.hpp), so that a killed plot or
+    // pipeline leaves no python behind.
+    const int rc = run_child({py, script, data, out.string()});
     if (rc != 0) {
-      std::fprintf(stderr, "yarnhom plot: the plot script failed (%s)\n", cmdline.c_str());
+      std::fprintf(stderr, "yarnhom plot: the plot script failed (%s %s %s %s)\n", py.c_str(), script.c_str(),
+                   data.c_str(), out.string().c_str());
       throw ExitCode{1};
     }
   });

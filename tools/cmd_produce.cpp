@@ -3,6 +3,8 @@
 // dataset file that train-all reads.
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -20,13 +22,17 @@ namespace {
 struct ProduceOpts {
   std::string pattern, out, preset = "quick", terms = "all", material, ranges;
   int threads = 0, sectors = 8;
+  double rest_time_limit = 300;
   bool no_warm = false;
   bool no_predictor = false;
   bool fixed_period = false;
 };
 
-// "index lower upper" per line (# comments): overrides of the sampling boxes.
+// "index lower upper" per line (# comments): overrides of the sampling boxes. Every line that
+// is not blank or a comment must be one; the box must hold 0 and stay where the strain means
+// something (core/terms.hpp, strain_domain_violation).
 std::map<int, Range> read_ranges(const std::string& path) {
+  check_input_file(path, "--ranges");
   std::ifstream in(path);
   if (!in) throw FileError(path, "", "cannot open for reading");
   std::map<int, Range> out;
@@ -36,18 +42,39 @@ std::map<int, Range> read_ranges(const std::string& path) {
     ++lineno;
     line = line.substr(0, line.find('#'));
     std::istringstream ls(line);
-    int idx;
-    double lo, hi;
-    if (!(ls >> idx)) continue;
-    if (!(ls >> lo >> hi) || idx < 0 || idx > 5 || !(lo < 0 && hi > 0))
-      throw FileError(path, "line " + std::to_string(lineno),
-                      "expected 'index lower upper' with index 0..5 and lower < 0 < upper");
-    out[idx] = {lo, hi};
+    std::string a, b, c, extra;
+    if (!(ls >> a)) continue;  // blank or comment
+    const std::string where = "line " + std::to_string(lineno);
+    double v[3];
+    char* end = nullptr;
+    if (!(ls >> b >> c) || (ls >> extra))
+      throw FileError(path, where, "expected three fields 'index lower upper', got '" + line + "'");
+    const std::string f[3] = {a, b, c};
+    for (int k = 0; k < 3; ++k) {
+      v[k] = std::strtod(f[k].c_str(), &end);
+      if (end == f[k].c_str() || *end != '\0' || !std::isfinite(v[k]))
+        throw FileError(path, where, "'" + f[k] + "' is not a finite number (expected 'index lower upper')");
+    }
+    const double idx = v[0], lo = v[1], hi = v[2];
+    if (idx != int(idx) || idx < 0 || idx > 5 || idx == 4)
+      throw FileError(path, where, "index must be one of 0 1 2 3 5 (s_x s_a s_y II_x II_y), got " + a);
+    if (!(lo < 0 && hi > 0)) throw FileError(path, where, "need lower < 0 < upper");
+    const int i = int(idx);
+    for (double v : {lo, hi})
+      if (std::string rule = strain_domain_violation(i, v); !rule.empty()) throw FileError(path, where, rule);
+    if (out.count(i)) throw FileError(path, where, "index " + a + " given twice");
+    out[i] = {lo, hi};
   }
   return out;
 }
 
 void run(const ProduceOpts& o) {
+  // Before any work: the dataset and the checkpoint beside it must be writable and must not
+  // be an input (the pattern, the material or the ranges file).
+  const std::vector<std::string> inputs = {o.pattern, o.material, o.ranges};
+  prepare_output(o.out, inputs);
+  check_output_file(o.out + ".partial", inputs, "-o (its checkpoint)");
+  if (std::filesystem::exists(o.pattern)) check_input_file(o.pattern, "PATTERN");
   yarn::Pattern p = std::filesystem::exists(o.pattern) ? yarn::read_pyp(o.pattern)
                     : yarn::is_builtin_pattern(o.pattern)
                         ? yarn::builtin_pattern(o.pattern)
@@ -59,6 +86,7 @@ void run(const ProduceOpts& o) {
   opt.terms = parse_term_list(o.terms);
   opt.threads = o.threads > 0 ? o.threads : default_threads();
   opt.sectors = o.sectors;
+  opt.rest_time_limit = o.rest_time_limit;
   opt.warm_start = !o.no_warm;
   opt.predictor = !o.no_predictor;
   opt.free_period = !o.fixed_period;
@@ -125,10 +153,16 @@ void register_produce(CLI::App& app) {
       "command resumes a killed run. Exit status 3 when some nodes did not converge (listed).");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("-o,--out", o->out, "Dataset file to write (HDF5)")->required();
-  cmd->add_option("--preset", o->preset, "quick (21 points / 9 x 9) or paper (101 / 31 x 31)");
-  cmd->add_option("--terms", o->terms, "Terms to produce, e.g. 0,02 (default all)");
-  cmd->add_option("--threads", o->threads, "Sectors solved in parallel (default: all cores)");
-  cmd->add_option("--sectors", o->sectors, "Sectors per 2D term (default 8)");
+  cmd->add_option("--preset", o->preset, "quick (21 points / 9 x 9), paper (101 / 31 x 31) or tiny (5 / 3 x 3, for tests)")
+      ->check(CLI::IsMember({"quick", "paper", "tiny"}));
+  cmd->add_option("--terms", o->terms, "Terms to produce, e.g. 0,02 (default all)")->check(term_list_validator());
+  cmd->add_option("--threads", o->threads, "Sectors solved in parallel (0 or absent: all cores)")
+      ->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--sectors", o->sectors, "Sectors per 2D term, 1..64 (default 8)")->check(CLI::Range(1, 64));
+  cmd->add_option("--rest-time-limit", o->rest_time_limit,
+                  "Wall-clock limit of the rest relaxation in seconds, 0: none (default 300; the largest "
+                  "paper pattern relaxes in a few seconds)")
+      ->check(finite_non_negative());
   cmd->add_flag("--no-warm-start", o->no_warm, "Solve every node from the rest state (for comparison)");
   cmd->add_flag("--no-predictor", o->no_predictor,
                 "Warm start from the parent's solution as it is (supplement Eq. 2-3 only), without our "
@@ -139,7 +173,7 @@ void register_produce(CLI::App& app) {
   cmd->add_option("--material", o->material,
                   "Yarn material: a file of 'key = value' lines, or a built-in name: hylc-calibrated (the default), "
                   "yarnhom-2025 (the constants before issue 10); docs/yarn_material.md");
-  cmd->add_option("--ranges", o->ranges, "Sampling boxes: 'index lower upper' lines")->check(CLI::ExistingFile);
+  cmd->add_option("--ranges", o->ranges, "Sampling boxes: 'index lower upper' lines")->check(existing_regular_file());
   cmd->callback([o] { run(*o); });
 }
 

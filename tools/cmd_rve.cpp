@@ -21,12 +21,15 @@ namespace {
 struct RveOpts {
   std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify, tile = "1,1";
   bool json = false, verbose = false, fixed_period = false, no_ccd = false;
-  double tolerance = 1e-10;
-  int max_iterations = 200;
+  double tolerance = 1e-10, time_limit = 300;
+  int max_iterations = 500;
 };
 
 yarn::Pattern load_pattern(const std::string& what) {
-  if (std::filesystem::exists(what)) return yarn::read_pyp(what);
+  if (std::filesystem::exists(what)) {
+    check_input_file(what, "PATTERN");
+    return yarn::read_pyp(what);
+  }
   if (yarn::is_builtin_pattern(what)) return yarn::builtin_pattern(what);
   std::string names;
   for (const auto& n : yarn::builtin_pattern_names()) names += (names.empty() ? "" : ", ") + n;
@@ -58,17 +61,27 @@ void certify(const RveOpts& o, const yarn::RveProblem& rve) {
 }
 
 void run(const RveOpts& o) {
+  // Outputs: checked before any work, never one of the inputs, never each other.
+  const std::vector<std::string> inputs = {o.pattern, o.material, o.start};
+  std::vector<std::pair<std::string, std::string>> outs;
+  if (!o.out.empty()) outs.push_back({prepare_output(o.out, inputs, "--out"), "--out"});
+  if (!o.obj.empty()) outs.push_back({prepare_output(o.obj, inputs, "--obj"), "--obj"});
+  if (!o.pattern_out.empty()) outs.push_back({prepare_output(o.pattern_out, inputs, "--pattern-out"), "--pattern-out"});
+  for (size_t i = 0; i < outs.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (std::filesystem::weakly_canonical(outs[i].first) == std::filesystem::weakly_canonical(outs[j].first))
+        throw std::invalid_argument(outs[j].second + " and " + outs[i].second + " name the same file " + outs[i].first);
   const std::vector<double> sv = parse_numbers(o.strain, "--strain");
   if (sv.size() != 6)
     throw std::invalid_argument("--strain: expected 6 comma-separated values (s_x,s_a,s_y,II_x,II_a,II_y), got " +
                                 std::to_string(sv.size()));
   yarn::Strain s = Eigen::Map<const yarn::Strain>(sv.data());
-  if (!(s[0] > -1 && s[2] > -1 && std::abs(s[1]) < 1))
-    throw std::invalid_argument("--strain: need s_x > -1, s_y > -1 and |s_a| < 1");
+  for (int k = 0; k < 6; ++k)
+    if (std::string rule = strain_domain_violation(k, s[k]); !rule.empty()) throw std::invalid_argument("--strain: " + rule);
   const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::load_material(o.material);
   const std::vector<double> tv = parse_numbers(o.tile, "--tile");
-  if (tv.size() != 2 || tv[0] < 1 || tv[1] < 1 || tv[0] != std::floor(tv[0]) || tv[1] != std::floor(tv[1]))
-    throw std::invalid_argument("--tile: expected two positive integers NX,NY, got '" + o.tile + "'");
+  if (tv.size() != 2 || tv[0] < 1 || tv[1] < 1 || tv[0] > 64 || tv[1] > 64 || tv[0] != std::floor(tv[0]) || tv[1] != std::floor(tv[1]))
+    throw std::invalid_argument("--tile: expected two integers NX,NY in [1, 64], got '" + o.tile + "'");
   const int nx = int(tv[0]), ny = int(tv[1]);
   const yarn::Pattern base = load_pattern(o.pattern);
   const yarn::Pattern pattern = nx * ny > 1 ? yarn::tile(base, nx, ny) : base;
@@ -80,6 +93,7 @@ void run(const RveOpts& o) {
   opt.ccd = !o.no_ccd;
   opt.tolerance = o.tolerance;
   opt.max_iterations = o.max_iterations;
+  opt.max_seconds = o.time_limit;
   opt.verbose = o.verbose;
 
   // The reference: the pattern relaxed at rest, its period included (s = 0 is then the
@@ -98,8 +112,9 @@ void run(const RveOpts& o) {
   } else {
     yarn::RestOptions ro;
     ro.free_period = !o.fixed_period;
-    ro.solve = opt;
-    ro.solve.max_iterations = std::max(opt.max_iterations, 200);  // --max-iterations is for the strain
+    ro.solve = opt;  // --max-iterations and --time-limit bound the rest relaxation too
+    ro.first_max_iterations = opt.max_iterations;
+    ro.max_seconds = o.time_limit;
     ro.verbose = o.verbose;
     ro.record_path = !o.out.empty();
     // A tiling is the same material on a larger RVE: its rest is the pattern's relaxed rest
@@ -211,7 +226,7 @@ void register_rve(CLI::App& app) {
   cmd->add_option("--start", o->start,
                   "Start from this state file (warm start) instead of the relaxed rest state; the strain is then "
                   "measured from the reference tile the file was solved in")
-      ->check(CLI::ExistingFile);
+      ->check(existing_regular_file());
   cmd->add_flag("--fixed-period", o->fixed_period,
                 "Relax the yarns at the pattern's own period only (the tile stays pre-stressed: dPsi/ds(0) != 0); "
                 "default: the period relaxes too and s = 0 is the stress-free tile");
@@ -219,8 +234,16 @@ void register_rve(CLI::App& app) {
                   "NX,NY: solve the pattern tiled NX x NY times, from its relaxed rest repeated (a larger RVE of "
                   "the same material: in-plane strains give the same Psi, curvature shows the map's tile-size "
                   "dependence; docs/rve.md section 2)");
-  cmd->add_option("--tolerance", o->tolerance, "Relative residual to converge to (default 1e-10)");
-  cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations at most (default 200)");
+  cmd->add_option("--tolerance", o->tolerance, "Relative residual to converge to, in (0, 0.1] (default 1e-10)")
+      ->check(finite_range(1e-300, 0.1, "a relative residual in (0, 0.1]"));
+  cmd->add_option("--max-iterations", o->max_iterations,
+                  "Newton iterations at most of each solve: the rest relaxation's and the one at the strain "
+                  "(default 500)")
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--time-limit", o->time_limit,
+                  "Wall-clock limit in seconds of the rest relaxation (all of it) and of the solve at the strain; "
+                  "0: none (default 300)")
+      ->check(finite_non_negative());
   cmd->add_flag("--json", o->json,
                 "Print one JSON object: psi, grad, iterations, residual, seconds, converged, psi0, rest_grad, "
                 "lattice_original and lattice_relaxed (lattice vectors, m), reference_strain, areal_density, certificate_valid, min_separation and d_min (in yarn diameters 2r), barrier_energy, ...");
@@ -228,7 +251,7 @@ void register_rve(CLI::App& app) {
                   "Re-check the topology certificate of a state file written by --out: every configuration of its "
                   "recorded path, from the pattern's own geometry, and every straight move between them must keep "
                   "all yarn segment pairs above d_min (CCD). Exit status 3 when it does not hold")
-      ->check(CLI::ExistingFile);
+      ->check(existing_regular_file());
   cmd->add_flag("--no-ccd", o->no_ccd,
                 "Do not shorten Newton steps by collision detection (for comparison only: yarns may pass through "
                 "each other; the certificate then says so)");

@@ -89,7 +89,7 @@ std::string plotting_python() {
   c.push_back("/usr/bin/python3");
   c.push_back("python3");
   for (const std::string& p : c)
-    if (std::system(("'" + p + "' -c 'import matplotlib, numpy' >/dev/null 2>&1").c_str()) == 0) return p;
+    if (run_child({p, "-c", "import matplotlib, numpy"}, "/dev/null", "/dev/null") == 0) return p;
   return "";
 }
 
@@ -118,12 +118,14 @@ void fig5(const AccuracyResult& r, const AccuracyOptions& a, const std::string& 
     std::printf("  (no python3 with matplotlib: no %s)\n", png.string().c_str());
     return;
   }
-  const std::string cmd = shell_quote(py) + " " + shell_quote(plot_script("plot_fig5.py")) + " " +
-                          shell_quote((ydir / "centrelines" / "step_000.obj").string()) + " " +
-                          shell_quote((ydir / "centrelines" / yname).string()) + " " + shell_quote((cdir / "frame_0000.obj").string()) +
-                          " " + shell_quote((cdir / cname).string()) + " " + shell_quote(title) + " " + shell_quote(png.string()) +
-                          " > /dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0) std::printf("  (the Fig. 5 picture failed: %s)\n", cmd.c_str());
+  const std::vector<std::string> argv = {py, plot_script("plot_fig5.py"), (ydir / "centrelines" / "step_000.obj").string(),
+                                         (ydir / "centrelines" / yname).string(), (cdir / "frame_0000.obj").string(),
+                                         (cdir / cname).string(), title, png.string()};
+  if (run_child(argv, "/dev/null", "/dev/null") != 0) {
+    std::string cmd;
+    for (const std::string& a : argv) cmd += (cmd.empty() ? "" : " ") + shell_quote(a);
+    std::printf("  (the Fig. 5 picture failed: %s)\n", cmd.c_str());
+  }
 }
 
 CLI::App* study_group(CLI::App& app) {
@@ -140,10 +142,14 @@ void add_accuracy_options(CLI::App* cmd, AccuracyOptions& a) {
       ->capture_default_str();
   cmd->add_option("--size", a.size, "Strip width,length in metres")->capture_default_str();
   cmd->add_option("--stretch", a.stretch, "Stretch ratios first:last:step")->capture_default_str();
-  cmd->add_option("--epochs", a.epochs, "train-all's epochs per network (0: its default)")->capture_default_str();
-  cmd->add_option("--threads", a.threads, "Threads for produce and train-all (0: all cores)")->capture_default_str();
+  cmd->add_option("--epochs", a.epochs, "train-all's epochs per network (0: its default)")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
+  cmd->add_option("--threads", a.threads, "Threads for produce and train-all (0: all cores)")
+      ->check(CLI::Range(0, kMaxThreads))
+      ->capture_default_str();
   cmd->add_option("--spacing", a.spacing, "Surface sampling of the Hausdorff distance, metres")
-      ->check(CLI::PositiveNumber)
+      ->check(finite_positive())
       ->capture_default_str();
   cmd->add_option("--strip-args", a.strip_args, "Extra arguments for strip");
   cmd->add_option("--sim-args", a.sim_args, "Extra arguments for sim stretch");
@@ -176,6 +182,7 @@ void register_study_accuracy(CLI::App& app) {
     cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
     add_accuracy_options(cmd, o->acc);
     cmd->callback([o] {
+      check_output_folder(o->out);
       std::string md =
           "# Supplement Table 5, reproduced\n\nPer row: mean stress difference (N/m), mean Hausdorff distance (cm), mean "
           "relative stress error (%) over the tests, ours against the paper's.\n\n"
@@ -235,6 +242,7 @@ void register_study_accuracy(CLI::App& app) {
     cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
     add_accuracy_options(cmd, o->acc);
     cmd->callback([o] {
+      check_output_folder(o->out);
       const fs::path dir(o->out);
       const std::string name = paper_name(o->pattern);
       // The dataset and networks once (the accuracy test of the Bake-3 file makes them).
@@ -306,12 +314,13 @@ void register_study_accuracy(CLI::App& app) {
         "Supplement Table 2: datasets produced on periodic patches of n x n tiles of the pattern "
         "(1, 2, 3 by default), each trained, baked and tested against the same yarn strip "
         "(wale by default): production time and mean stress difference. OUT/table2.md and .csv.");
-    cmd->add_option("PATTERN", o->pattern, "Pattern file (.pyp)")->required()->check(CLI::ExistingFile);
+    cmd->add_option("PATTERN", o->pattern, "Pattern file (.pyp)")->required()->check(existing_regular_file());
     cmd->add_option("--tiles", o->tiles, "Patch sizes n (n x n tiles)")->check(CLI::Range(1, 8))->capture_default_str();
     cmd->add_option("--direction", o->direction, "Stretch direction")->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
     cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
     add_accuracy_options(cmd, o->acc);
     cmd->callback([o] {
+      check_output_folder(o->out);
       const fs::path dir(o->out);
       fs::create_directories(dir);
       std::string md = "# Supplement Table 2, reproduced (" + paper_name(o->pattern) + ", " + o->direction +

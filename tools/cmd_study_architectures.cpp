@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "core/dataset.hpp"
 #include "train/recipe.hpp"
@@ -34,12 +36,6 @@ const std::vector<Architecture>& table3() {
                                               {"Net-3", {16, 32, 16}, 0.148},
                                               {"Net-4", {32, 64, 32}, 0.197}};
   return a;
-}
-
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 std::string join(const std::vector<int>& v) {
@@ -150,11 +146,10 @@ void register_architectures(CLI::App* study) {
       return;
     }
     const std::string png = (fs::path(o->out) / "architectures.png").string();
-    const std::string line = quote(py) + " " + quote(scripts_dir() + "/plot/plot_study.py") + " architectures " +
-                             quote(csv) + " " + quote(png) + " " +
-                             quote("term " + term.name + " of " + fs::path(o->dataset).filename().string() +
-                                   ", recipe " + o->recipe);
-    if (std::system(line.c_str()) != 0) {
+    const std::vector<std::string> argv = {py, scripts_dir() + "/plot/plot_study.py", "architectures", csv, png,
+                                           "term " + term.name + " of " + fs::path(o->dataset).filename().string() +
+                                               ", recipe " + o->recipe};
+    if (run_child(argv, "/dev/null", "") != 0) {
       std::fprintf(stderr, "yarnhom study: drawing %s failed; the numbers are in %s\n", png.c_str(), csv.c_str());
       throw ExitCode{2};
     }

@@ -3,6 +3,7 @@
 
 #include "core/dataset.hpp"
 #include "core/synthetic.hpp"
+#include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 
 namespace yarnhom::tools {
@@ -24,6 +25,7 @@ void register_synth(CLI::App& app) {
       ->check(CLI::IsMember({"quick", "paper"}))
       ->capture_default_str();
   cmd->callback([o] {
+    prepare_output(o->out, {});
     Dataset ds = make_synthetic_dataset(o->preset);
     write_dataset(o->out, ds);
     size_t n = 0;

@@ -33,21 +33,22 @@ struct TrainOpts {
 void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("DATASET", o.dataset, "Dataset file (HDF5) written by 'produce' or 'synth'")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(existing_regular_file());
   cmd->add_option("-o,--output", o.out,
                   "Model file to write (HDF5). Written under a temporary name and renamed at the "
                   "end: an interrupted run never leaves a partial model or destroys an old one")
       ->required();
   cmd->add_option("--backend", o.backend, "Compute backend: cpu, or cuda when built with CUDA")
+      ->check(backend_validator())
       ->capture_default_str();
   cmd->add_option("--epochs", o.epochs, "Epochs per network (the paper: 500)")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1, 100000000))
       ->capture_default_str();
   cmd->add_option("--seed", o.seed,
                   "Seed of the split, initialization, shuffling and off-domain points; the same "
                   "seed and backend give identical weights (on the CPU for any thread count)")
       ->capture_default_str();
-  cmd->add_option("--threads", o.threads, "CPU threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "CPU threads (0: all cores)")->check(CLI::Range(0, kMaxThreads))->capture_default_str();
   cmd->add_option("--recipe", o.recipe,
                   "'default': the paper's 500 Adam epochs (lr 1e-3, batch 4 (1D) / 128 (2D), plateau "
                   "schedule, losses L_Z L_F L_C L_S), then a full-batch L-BFGS polish of up to --polish "
@@ -57,22 +58,34 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
                   "earlier improvement). --lr, --batch-2d and --polish override the recipe's values")
       ->check(CLI::IsMember({"default", "paper", "improved"}))
       ->capture_default_str();
-  cmd->add_option("--lr", o.lr, "Initial Adam learning rate (the recipe's: 1e-3; improved: 3e-3)")->capture_default_str();
+  cmd->add_option("--lr", o.lr, "Initial Adam learning rate (the recipe's: 1e-3; improved: 3e-3)")->check(finite_positive())->capture_default_str();
   cmd->add_option("--hidden", o.hidden, "Hidden layer sizes (the paper's Net-3: 16,32,16)")
+      ->check(CLI::Validator(
+          [](std::string& in) -> std::string {
+            try {
+              NetworkDesc desc;
+              desc.hidden = parse_ints(in, "--hidden", 1024);
+              desc.validate();
+            } catch (const std::exception& e) {
+              return e.what();
+            }
+            return "";
+          },
+          "SIZES"))
       ->capture_default_str();
-  cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->capture_default_str();
-  cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->capture_default_str();
-  cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->capture_default_str();
-  cmd->add_option("--w-s", o.ws, "Weight of L_S (strain concentration, off-domain)")->capture_default_str();
-  cmd->add_option("--w-x", o.wx, "Weight of L_X (convexity; 0 as in the paper)")->capture_default_str();
+  cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-s", o.ws, "Weight of L_S (strain concentration, off-domain)")->check(finite_non_negative())->capture_default_str();
+  cmd->add_option("--w-x", o.wx, "Weight of L_X (convexity; 0 as in the paper)")->check(finite_non_negative())->capture_default_str();
   cmd->add_flag("--stencil-c", o.stencil,
                 "Compute L_C with the paper's finite-difference stencil instead of exact third "
                 "derivatives");
-  cmd->add_option("--stencil-eps", o.stencil_eps, "Stencil step in normalized units")->capture_default_str();
-  cmd->add_option("--batch-1d", o.batch1, "Batch size of 1D terms")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--batch-2d", o.batch2, "Batch size of 2D terms (the recipe's: 128; improved: 32)")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--stencil-eps", o.stencil_eps, "Stencil step in normalized units")->check(finite_range(1e-8, 0.5, "in [1e-8, 0.5]"))->capture_default_str();
+  cmd->add_option("--batch-1d", o.batch1, "Batch size of 1D terms")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  cmd->add_option("--batch-2d", o.batch2, "Batch size of 2D terms (the recipe's: 128; improved: 32)")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   cmd->add_option("--off-domain", o.off, "Fresh off-domain points per batch for L_S")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
   cmd->add_option("--polish", o.polish,
                   "Maximum L-BFGS iterations of the full-batch polish after the epochs (0: none; the "
@@ -144,6 +157,7 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   if (given("--polish-keep-last")) opt.polish.keep_best = false;
   o.epochs = opt.config.epochs;
   o.polish = opt.polish.iterations;
+  prepare_output(o.out, {o.dataset});
   Dataset ds = read_dataset(o.dataset);
   if (terms.empty())
     for (auto& t : ds.terms) terms.push_back(t.term);
@@ -220,6 +234,7 @@ void register_train(CLI::App& app) {
       "status 2 if a network failed (its loss became non-finite).");
   add_common(all, *oa);
   all->add_option("--terms", oa->terms, "Terms to train, e.g. 0,02,15 (default: all in the dataset)")
+      ->check(term_list_validator())
       ->capture_default_str();
   all->callback([oa, all] {
     run_training(*oa, oa->terms == "all" ? std::vector<Term>{} : parse_term_list(oa->terms), *all);
@@ -228,7 +243,7 @@ void register_train(CLI::App& app) {
   auto o1 = std::make_shared<TrainOpts>();
   auto* one = app.add_subcommand("train", "Train one energy term's network (see train-all for the recipe)");
   add_common(one, *o1);
-  one->add_option("--term", o1->term, "The term, e.g. 02")->required();
+  one->add_option("--term", o1->term, "The term, e.g. 02")->required()->check(term_list_validator(true));
   one->callback([o1, one] { run_training(*o1, {term_by_name(o1->term)}, *one); });
 }
 

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "tools/child_process.hpp"
+
 namespace yarnhom::tools {
 
 // A python3 that imports matplotlib, h5py and numpy: $YARNHOM_PYTHON, then the system's
@@ -13,10 +15,8 @@ inline std::string find_python() {
   if (const char* e = std::getenv("YARNHOM_PYTHON")) candidates.push_back(e);
   candidates.push_back("/usr/bin/python3");
   candidates.push_back("python3");
-  for (const std::string& c : candidates) {
-    const std::string cmd = "'" + c + "' -c 'import matplotlib, h5py, numpy' >/dev/null 2>&1";
-    if (std::system(cmd.c_str()) == 0) return c;
-  }
+  for (const std::string& c : candidates)
+    if (run_child({c, "-c", "import matplotlib, h5py, numpy"}, "/dev/null", "/dev/null") == 0) return c;
   return "";
 }
 

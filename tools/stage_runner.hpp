@@ -4,7 +4,8 @@
 // program with a subcommand in a child process, its output in DIR/logs/<name>.log, and is
 // skipped when its outputs exist, no input is newer than them and its record
 // DIR/.stages/<name>.done holds the same settings. The record is written after success only, so
-// an interrupted run continues where it stopped.
+// an interrupted run continues where it stopped. A stage dies with its parent
+// (tools/child_process.hpp): killing accuracy or study never leaves a stage running.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "bake/pipeline_stage.hpp"
+#include "tools/child_process.hpp"
 #include "tools/cli_util.hpp"
 
 namespace yarnhom::tools {
@@ -57,12 +59,10 @@ inline StageOutcome run_stage(const std::filesystem::path& dir, const StageSpec&
   }
   std::printf("  %-14s running (%s) ...", s.name.c_str(), d.reason.c_str());
   std::fflush(stdout);
-  std::string line = shell_quote(self_executable());
-  for (const std::string& a : s.args) line += " " + shell_quote(a);
-  line += s.stdout_file.empty() ? " > " + shell_quote(out.log) + " 2>&1"
-                                : " > " + shell_quote(s.stdout_file) + " 2> " + shell_quote(out.log);
+  std::vector<std::string> argv = {self_executable()};
+  argv.insert(argv.end(), s.args.begin(), s.args.end());
   const auto t0 = std::chrono::steady_clock::now();
-  const int rc = std::system(line.c_str());
+  const int rc = run_child(argv, s.stdout_file.empty() ? out.log : s.stdout_file, out.log);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.ran = true;
   if (rc != 0) {

@@ -21,6 +21,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::kLineSearchFailed: return "line_search_failed";
     case SolveStatus::kNonFinite: return "non_finite";
     case SolveStatus::kInfeasibleStart: return "infeasible_start";
+    case SolveStatus::kTimeLimit: return "time_limit";
   }
   return "unknown";
 }
@@ -154,6 +155,9 @@ SolveReport solve(const RveProblem& rve, const Strain& s, RveState& st, const So
       return finish(SolveStatus::kConverged);
     }
     if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);
+    if (opt.max_seconds > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > opt.max_seconds)
+      return finish(SolveStatus::kTimeLimit);
 
     H.assemble(trip);
     // After a full step try plain Newton first (see newton.hpp), falling back to a tenth of

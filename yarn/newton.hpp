@@ -24,6 +24,10 @@ namespace yarnhom::yarn {
 struct SolveOptions {
   double tolerance = 1e-10;  // on the relative residual (see above)
   int max_iterations = 200;
+  // Wall-clock guard (s; 0: none): a solve still running after this long stops with
+  // kTimeLimit, so that a pathological input is refused in bounded time whatever an
+  // iteration costs.
+  double max_seconds = 0;
   bool verbose = false;      // one line per iteration on stderr
   // Strain directions whose equilibrium sensitivities du/dt (t the coordinate along the
   // direction) the solve returns on convergence, for a continuation predictor (see
@@ -39,7 +43,8 @@ struct SolveOptions {
 // kInfeasibleStart: the straight move from the state's last checked configuration to the
 // start at the new strain would bring yarn segments within d_min (a strain step too large for
 // the configuration: solve in smaller strain steps); the state is left unchanged.
-enum class SolveStatus { kConverged, kMaxIterations, kLineSearchFailed, kNonFinite, kInfeasibleStart };
+enum class SolveStatus { kConverged, kMaxIterations, kLineSearchFailed, kNonFinite, kInfeasibleStart,
+                         kTimeLimit };
 const char* to_string(SolveStatus s);
 
 struct SolveReport {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -10,6 +11,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_checks.hpp"
 #include "yarn/frames.hpp"
 
 namespace yarnhom::yarn {
@@ -113,8 +115,15 @@ Pattern parse_pyp(const std::string& text, const std::string& file) {
     p.radius = r[2];
     if (!(p.px > 0 && p.py > 0 && p.radius > 0))
       fail(hb.lines[0], "px, py and radius must be positive");
-    if (!is_integer(r[3]) || r[3] < 2)
-      fail(hb.lines[0], "n must be an integer >= 2, got " + std::to_string(r[3]));
+    // Bounds that no textile breaks but a broken or mis-scaled file does (a radius of 1 m or
+    // 1e-30 m used to run minutes of rest relaxation, or produce Psi ~ 1e-76): see
+    // kPatternRules in pattern.hpp.
+    if (!(p.radius >= kMinRadius && p.radius <= kMaxRadius))
+      fail(hb.lines[0], "radius " + std::to_string(p.radius) + " m is outside [1e-6, 1e-2] m (a yarn radius, in metres)");
+    if (!(p.px >= 2 * p.radius && p.py >= 2 * p.radius && p.px <= 1000 * p.radius && p.py <= 1000 * p.radius))
+      fail(hb.lines[0], "the periods px and py must lie between 2 and 1000 yarn radii");
+    if (!is_integer(r[3]) || r[3] < 2 || r[3] > kMaxVertices)
+      fail(hb.lines[0], "n must be an integer in 2.." + std::to_string(kMaxVertices) + ", got " + std::to_string(r[3]));
   }
   const int n = static_cast<int>(hb.rows[0][3]);
   auto check_count = [&](const char* name, bool required) {
@@ -131,9 +140,18 @@ Pattern parse_pyp(const std::string& text, const std::string& file) {
   };
   check_count("Q", true);
   check_count("E", true);
-  for (const auto& r : blocks["Q"].rows) {
-    p.x.emplace_back(r[0], r[1], r[2]);
-    p.theta.push_back(r[3]);
+  {
+    const Block& qb = blocks["Q"];
+    for (size_t i = 0; i < qb.rows.size(); ++i) {
+      const auto& r = qb.rows[i];
+      if (!(std::abs(r[0]) <= 10 * p.px && std::abs(r[1]) <= 10 * p.py && std::abs(r[2]) <= 100 * p.radius))
+        fail(qb.lines[i], "vertex outside the tile's neighbourhood (|x| <= 10 px, |y| <= 10 py, |z| <= 100 radii)");
+      if (!(std::abs(r[3]) <= kMaxAngle))
+        fail(qb.lines[i], "twist angle t = " + std::to_string(r[3]) + " rad: must lie within +-100 rad (16 turns; "
+                          "larger angles lose all precision in cos and sin)");
+      p.x.emplace_back(r[0], r[1], r[2]);
+      p.theta.push_back(r[3]);
+    }
   }
   std::vector<int> out_line(n, 0), in_line(n, 0);
   const Block& eb = blocks["E"];
@@ -142,14 +160,20 @@ Pattern parse_pyp(const std::string& text, const std::string& file) {
     const int line = eb.lines[i];
     for (int k = 0; k < 4; ++k)
       if (!is_integer(r[k])) fail(line, "edge field " + std::to_string(k + 1) + " must be an integer");
+    // Ranges are checked on the numbers as read, before they become ints (1e300 is an
+    // integer-valued double that no int holds).
+    for (int k = 0; k < 2; ++k)
+      if (r[k] < 0 || r[k] >= n) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%g", r[k]);
+        fail(line, std::string("edge to missing vertex ") + buf + " (vertices are 0.." + std::to_string(n - 1) + ")");
+      }
+    if (r[2] < -1 || r[2] > 1 || r[3] < -1 || r[3] > 1) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "offsets dx=%g dy=%g outside -1..1", r[2], r[3]);
+      fail(line, buf);
+    }
     PatternEdge e{int(r[0]), int(r[1]), int(r[2]), int(r[3])};
-    for (int v : {e.v0, e.v1})
-      if (v < 0 || v >= n)
-        fail(line, "edge to missing vertex " + std::to_string(v) + " (vertices are 0.." +
-                       std::to_string(n - 1) + ")");
-    if (e.dx < -1 || e.dx > 1 || e.dy < -1 || e.dy > 1)
-      fail(line, "offsets dx=" + std::to_string(e.dx) + " dy=" + std::to_string(e.dy) +
-                     " outside -1..1");
     if (out_line[e.v0])
       fail(line, "vertex " + std::to_string(e.v0) + " already has an outgoing edge (line " +
                      std::to_string(out_line[e.v0]) + "); yarns must be simple closed chains");
@@ -160,6 +184,9 @@ Pattern parse_pyp(const std::string& text, const std::string& file) {
     const Eigen::Vector3d ev = p.x[e.v1] + Eigen::Vector3d(e.dx * p.px, e.dy * p.py, 0) - p.x[e.v0];
     if (ev.norm() <= 1e-9 * p.radius)
       fail(line, "zero-length edge " + std::to_string(e.v0) + " -> " + std::to_string(e.v1));
+    if (!(ev.norm() >= kMinEdge * p.radius && ev.norm() <= kMaxEdge * p.radius))
+      fail(line, "edge " + std::to_string(e.v0) + " -> " + std::to_string(e.v1) + " is " +
+                     std::to_string(ev.norm() / p.radius) + " yarn radii long: must be 0.01..100 radii");
     p.edges.push_back(e);
   }
   // With n edges and no vertex having two outgoing or two incoming ones, every vertex has
@@ -174,25 +201,54 @@ Pattern parse_pyp(const std::string& text, const std::string& file) {
   } else if (nhave != 5) {
     fail(0, "the rest-state blocks *RL *RK *RT *RefD1 *RefT must be all present or all absent");
   } else {
+    // Edge vector of each vertex's outgoing edge, for the rest-length and director rules.
+    std::vector<Eigen::Vector3d> out_edge(n);
+    for (const auto& e : p.edges)
+      out_edge[e.v0] = p.x[e.v1] + Eigen::Vector3d(e.dx * p.px, e.dy * p.py, 0) - p.x[e.v0];
     const Block& rl = blocks["RL"];
     for (size_t i = 0; i < rl.rows.size(); ++i) {
-      if (!(rl.rows[i][0] > 0)) fail(rl.lines[i], "rest length must be positive");
-      p.rest_length.push_back(rl.rows[i][0]);
+      const double L = rl.rows[i][0], ratio = L / out_edge[i].norm();
+      if (!(L > 0)) fail(rl.lines[i], "rest length must be positive");
+      if (!(L >= kMinEdge * p.radius && L <= kMaxEdge * p.radius && ratio >= 0.1 && ratio <= 10))
+        fail(rl.lines[i], "rest length " + std::to_string(L) + " m: must be 0.01..100 yarn radii and 0.1..10 "
+                          "times the stored length of its edge");
+      p.rest_length.push_back(L);
     }
-    for (const auto& r : blocks["RK"].rows) p.rest_kappa.emplace_back(r[0], r[1]);
-    for (const auto& r : blocks["RT"].rows) p.rest_twist.push_back(r[0]);
+    const Block& kb = blocks["RK"];
+    for (size_t i = 0; i < kb.rows.size(); ++i) {
+      const auto& r = kb.rows[i];
+      if (!(std::abs(r[0]) <= kMaxRestCurvature && std::abs(r[1]) <= kMaxRestCurvature))
+        fail(kb.lines[i], "rest curvature beyond +-10 (a turning angle of more than 157 degrees at one joint)");
+      p.rest_kappa.emplace_back(r[0], r[1]);
+    }
+    const Block& tb = blocks["RT"];
+    for (size_t i = 0; i < tb.rows.size(); ++i) {
+      if (!(std::abs(tb.rows[i][0]) <= 2 * M_PI)) fail(tb.lines[i], "rest twist beyond +-2 pi rad at one joint");
+      p.rest_twist.push_back(tb.rows[i][0]);
+    }
     const Block& db = blocks["RefD1"];
     for (size_t i = 0; i < db.rows.size(); ++i) {
       Eigen::Vector3d d(db.rows[i][0], db.rows[i][1], db.rows[i][2]);
       if (d.norm() < 1e-6) fail(db.lines[i], "reference director has zero length");
+      if (!(std::abs(d.normalized().dot(out_edge[i].normalized())) <= 0.9))
+        fail(db.lines[i], "reference director (nearly) parallel to its edge: it must be at least 25 degrees "
+                          "away from the edge (ideally perpendicular)");
       p.ref_d1.push_back(d);
     }
-    for (const auto& r : blocks["RefT"].rows) p.ref_twist.push_back(r[0]);
+    const Block& rb = blocks["RefT"];
+    for (size_t i = 0; i < rb.rows.size(); ++i) {
+      if (!(std::abs(rb.rows[i][0]) <= 2 * M_PI)) fail(rb.lines[i], "reference twist beyond +-2 pi rad");
+      p.ref_twist.push_back(rb.rows[i][0]);
+    }
   }
   return p;
 }
 
 Pattern read_pyp(const std::string& path) {
+  check_input_file(path);
+  // The largest paper pattern is 30 kB; a million vertices with every block is ~150 MB.
+  if (std::filesystem::file_size(path) > (size_t(256) << 20))
+    throw FileError(path, "", "larger than 256 MiB: not a pattern file");
   std::ifstream f(path, std::ios::binary);
   if (!f) throw FileError(path, "", "cannot open for reading");
   std::stringstream ss;
@@ -200,6 +256,7 @@ Pattern read_pyp(const std::string& path) {
   Pattern p = parse_pyp(ss.str(), path);
   std::string stem = path.substr(path.find_last_of('/') + 1);
   p.name = stem.substr(0, stem.rfind('.'));
+  p.source = path;
   return p;
 }
 

@@ -14,13 +14,25 @@
 
 namespace yarnhom::yarn {
 
+// Bounds a pattern read from a file must respect (checked by parse_pyp, which names the rule
+// and the line): no textile comes near them, a broken or mis-scaled file does. The paper's
+// patterns have radii 1e-4..1e-3 m, periods 4.4..17.4 radii, edges 0.53..2.7 radii, twist
+// angles within 1.2 rad, rest curvatures within 1.04, rest and reference twists within 1.8 rad,
+// directors within 6 degrees of perpendicular to their edges.
+inline constexpr double kMinRadius = 1e-6, kMaxRadius = 1e-2;  // m
+inline constexpr double kMinEdge = 0.01, kMaxEdge = 100;        // yarn radii (edges, rest lengths)
+inline constexpr double kMaxAngle = 100;                        // rad, |t|
+inline constexpr double kMaxRestCurvature = 10;                 // |RK| (2 tan of half the turning angle)
+inline constexpr int kMaxVertices = 1000000;
+
 struct PatternEdge {
   int v0 = 0, v1 = 0;  // edge vector = x[v1] + (dx px, dy py, 0) - x[v0]
   int dx = 0, dy = 0;
 };
 
 struct Pattern {
-  std::string name;  // file stem or generator name; used in messages and outputs
+  std::string name;    // file stem or generator name; used in messages and outputs
+  std::string source;  // the file it was read from ("" when generated): named in error messages
   double px = 0, py = 0, radius = 0;
   std::vector<Eigen::Vector3d> x;           // *Q x y z (m)
   std::vector<double> theta;                // *Q t: twist angle of the vertex's outgoing edge
@@ -32,6 +44,9 @@ struct Pattern {
   std::vector<double> ref_twist;            // *RefT, per vertex (rad)
   int size() const { return static_cast<int>(x.size()); }
 };
+
+// The file a pattern came from, else its name: what messages name.
+inline std::string display_name(const Pattern& p) { return p.source.empty() ? p.name : p.source; }
 
 // Closed-yarn structure derived from the edges: every vertex has exactly one outgoing and
 // one incoming edge (checked when reading).

@@ -80,6 +80,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   rest_opt.free_period = opt.free_period;
   rest_opt.solve = opt.solve;
   rest_opt.solve.sensitivity_directions.clear();
+  rest_opt.max_seconds = opt.rest_time_limit;
   RestTile tile = [&] {
     try {
       return relax_tile(pattern, opt.material, rest_opt);

@@ -29,6 +29,9 @@ struct ProduceOptions {
   Material material;
   std::map<int, Range> ranges;           // per strain index, overriding the pattern's defaults
   SolveOptions solve;
+  // Wall-clock guard of the rest relaxation (s; 0: none). Node solves have none: a time limit
+  // there would make the dataset depend on the machine's load.
+  double rest_time_limit = 300;
   std::string checkpoint;                // sidecar file of finished samples ("" = none)
   // Called (from one thread at a time) after each finished node.
   std::function<void(int done, int total, int failed, double elapsed)> progress;

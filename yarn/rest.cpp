@@ -125,7 +125,14 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
   inner.verbose = false;
   if (opt.free_period) inner.sensitivity_directions = axes;
   SolveOptions first = inner;
-  first.max_iterations = std::max(first.max_iterations, 500);
+  first.max_iterations = opt.first_max_iterations;
+  // The guard covers the whole relaxation: every solve gets what is left of it.
+  auto left = [&] {
+    if (opt.max_seconds <= 0) return 0.0;
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return std::max(opt.max_seconds - el, 1e-9);
+  };
+  first.max_seconds = left();
   first.verbose = opt.solve.verbose;
 
   // 1. The fluctuations at the pattern's own period (cold, from the stored geometry).
@@ -140,7 +147,7 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
     rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   if (!rep.first.converged())
-    throw std::runtime_error("relaxing pattern '" + pattern.name + "' at rest failed: " + rep.first.summary());
+    throw std::runtime_error("relaxing pattern '" + display_name(pattern) + "' at rest failed: " + rep.first.summary());
   Strain dE;
   tile.rve.evaluate(Strain::Zero(), tile.state, nullptr, nullptr, nullptr, &dE);
   rep.stress = relative_stress(tile.rve, dE);
@@ -165,6 +172,7 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
       break;
     }
     if (rep.iterations >= opt.max_iterations) break;
+    if (opt.max_seconds > 0 && left() <= 1e-9) break;
     if (du.size() != 3) du = equilibrium_sensitivity(P, Strain::Zero(), tile.state, axes);
     if (du.size() != 3) break;
     // Reduced Hessian: central differences of the envelope gradient along the equilibrium path.
@@ -201,6 +209,8 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
       P.apply_step(step, 1.0, trial);
       trial = carry_to_reference(trial, ds);
       RveProblem moved(pattern, material, rve_options, in_plane_map(ds.head<3>()) * P.reference());
+      if (opt.max_seconds > 0 && left() <= 1e-9) break;
+      inner.max_seconds = left();
       const SolveReport r = solve(moved, Strain::Zero(), trial, inner);
       rep.inner_iterations += r.iterations;
       if (!r.converged()) continue;
@@ -218,7 +228,8 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
   }
   finish();
   if (!rep.converged)
-    throw std::runtime_error("relaxing the period of pattern '" + pattern.name + "' failed: " + rep.summary());
+    throw std::runtime_error("relaxing the period of pattern '" + display_name(pattern) + "' failed: " + rep.summary() +
+                             (opt.max_seconds > 0 && left() <= 1e-9 ? " (time limit reached)" : ""));
   return tile;
 }
 

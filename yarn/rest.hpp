@@ -51,6 +51,9 @@ struct RestOptions {
   int max_iterations = 40;  // period updates
   double max_step = 0.1;    // largest change of one strain component per update
   SolveOptions solve;       // inner solves (tolerance tightened to 1e-12 at most)
+  int first_max_iterations = 500;  // the cold solve at the pattern's own period
+  double max_seconds = 0;   // wall-clock guard of the whole relaxation (0: none): a pathological
+                            // pattern is refused in bounded time whatever an iteration costs
   bool verbose = false;     // one line per period update on stderr
   bool record_path = false; // record the state's whole path from the pattern (RveState::path)
 };
