@@ -3,6 +3,8 @@
 // and warm (from the solution at a strain 0.02 away: s_x = 0.28, or II_x = 98/m). The relaxed
 // rest state and the neighbouring solution are computed once, outside the timing. Patterns come
 // from ../shared/patterns or $YARNHOM_PATTERNS (skipped when absent); the built-in generated ones are timed too.
+// The "_noccd" variants turn the collision filter off (SolveOptions::ccd = false): what the
+// filter costs, apart from the barrier, which stays in the energy either way.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -44,7 +46,7 @@ std::shared_ptr<Case> make_case(const Pattern& p, int axis, double value, double
   return c;
 }
 
-void run(benchmark::State& state, std::shared_ptr<Case> c, bool warm) {
+void run(benchmark::State& state, std::shared_ptr<Case> c, bool warm, bool ccd) {
   if (!c->ok) {
     state.SkipWithError(c->why.c_str());
     return;
@@ -52,7 +54,9 @@ void run(benchmark::State& state, std::shared_ptr<Case> c, bool warm) {
   int newton = 0;
   for (auto _ : state) {
     RveState st = warm ? c->neighbour : c->rest;
-    const SolveReport rep = solve(*c->rve, c->s, st);
+    SolveOptions opt;
+    opt.ccd = ccd;
+    const SolveReport rep = solve(*c->rve, c->s, st, opt);
     if (!rep.converged()) {
       state.SkipWithError(("solve failed: " + rep.summary()).c_str());
       return;
@@ -83,8 +87,11 @@ int main(int argc, char** argv) {
     for (const auto& [label, axis, value, step] :
          {std::tuple<std::string, int, double, double>{"sx0.3", 0, 0.3, 0.02}, {"IIx100", 3, 100.0, 2.0}}) {
       auto c = make_case(p, axis, value, step);
-      benchmark::RegisterBenchmark((name + "/" + label + "/cold").c_str(), run, c, false)->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark((name + "/" + label + "/warm").c_str(), run, c, true)->Unit(benchmark::kMillisecond);
+      for (bool ccd : {true, false}) {
+        const std::string tag = ccd ? "" : "_noccd";
+        benchmark::RegisterBenchmark((name + "/" + label + "/cold" + tag).c_str(), run, c, false, ccd)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((name + "/" + label + "/warm" + tag).c_str(), run, c, true, ccd)->Unit(benchmark::kMillisecond);
+      }
     }
   }
   benchmark::RunSpecifiedBenchmarks();

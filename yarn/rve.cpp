@@ -174,12 +174,17 @@ RveState RveProblem::initial_state(bool record_path) const {
   return st;
 }
 
-RveProblem::Node RveProblem::node(const Strain& s, const RveState& st, int v, Eigen::Vector2i o,
-                                  bool want_ds) const {
+ShellPoint<double> RveProblem::shell_point(const Strain& s, int v, Eigen::Vector2i o) const {
   // The reference point: the stored in-plane position (plus the image's period) mapped by F0.
   const Eigen::Vector2d xi = F0_ * Eigen::Vector2d(p_.x[v][0] + o[0] * p_.px, p_.x[v][1] + o[1] * p_.py);
+  return shell_map(s.data(), xi[0], xi[1], p_.x[v][2]);
+}
+
+RveProblem::Node RveProblem::node(const Strain& s, const RveState& st, int v, Eigen::Vector2i o,
+                                  bool want_ds) const {
+  const Eigen::Vector2d xi = F0_ * Eigen::Vector2d(p_.x[v][0] + o[0] * p_.px, p_.x[v][1] + o[1] * p_.py);
   const double xi1 = xi[0], xi2 = xi[1], h = p_.x[v][2];
-  const ShellPoint<double> sp = shell_map(s.data(), xi1, xi2, h);
+  const ShellPoint<double> sp = shell_point(s, v, o);
   Node nd;
   const V3<double> x = sp.apply(st.u[v]);
   nd.x = Eigen::Vector3d(x.x, x.y, x.z);

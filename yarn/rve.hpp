@@ -138,6 +138,9 @@ class RveProblem {
   // Deformed positions of the base tile's vertices, and of vertex v's image at tile offset o.
   std::vector<Eigen::Vector3d> positions(const Strain& s, const RveState& st) const;
   Eigen::Vector3d position(const Strain& s, const RveState& st, int v, Eigen::Vector2i o) const;
+  // The map at vertex v's reference point in the image at offset o: x = Phi + R u for any u
+  // (one evaluation serves several states at one strain).
+  ShellPoint<double> shell_point(const Strain& s, int v, Eigen::Vector2i o) const;
 
   // Candidate contact pairs (segment a in the base tile, segment b at tile offset o) whose
   // inflated bounding boxes overlap, from a hash grid: never all pairs.

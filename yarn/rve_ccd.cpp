@@ -22,18 +22,44 @@ struct Box {
   }
 };
 
-// The segments of the image at offset o, moving from configuration 0 to configuration 1,
-// and their joint swept box.
+// Vertex positions of one image in the two configurations of a move. At one strain (a Newton
+// step) the map is evaluated once per vertex for both.
+void image_points(const RveProblem& rve, const Strain& s0, const RveState& st0, const Strain& s1, const RveState& st1,
+                  Eigen::Vector2i o, int v, Eigen::Vector3d& x0, Eigen::Vector3d& x1) {
+  const ShellPoint<double> a = rve.shell_point(s0, v, o);
+  const V3<double> p0 = a.apply(st0.u[v]);
+  x0 = Eigen::Vector3d(p0.x, p0.y, p0.z);
+  const ShellPoint<double> b = s1 == s0 ? a : rve.shell_point(s1, v, o);
+  const V3<double> p1 = b.apply(st1.u[v]);
+  x1 = Eigen::Vector3d(p1.x, p1.y, p1.z);
+}
+
+// The segments of the image at offset o, moving from configuration 0 to configuration 1
+// (segment v: vertex v to next(v), which lies in the image o + offset(v)), and their joint
+// swept box.
 std::vector<SegmentMove> image_moves(const RveProblem& rve, const Strain& s0, const RveState& st0, const Strain& s1,
                                      const RveState& st1, Eigen::Vector2i o, Box& box) {
   const Topology& t = rve.topo();
   const int n = rve.pattern().size();
+  std::vector<Eigen::Vector3d> x0(n), x1(n);
+  for (int v = 0; v < n; ++v) {
+    image_points(rve, s0, st0, s1, st1, o, v, x0[v], x1[v]);
+    box.add(x0[v]);
+    box.add(x1[v]);
+  }
   std::vector<SegmentMove> m(n);
   for (int v = 0; v < n; ++v) {
-    const Eigen::Vector2i on = o + t.offset[v];
-    m[v].start = {rve.position(s0, st0, v, o), rve.position(s0, st0, t.next[v], on)};
-    m[v].end = {rve.position(s1, st1, v, o), rve.position(s1, st1, t.next[v], on)};
-    for (const auto& p : {m[v].start[0], m[v].start[1], m[v].end[0], m[v].end[1]}) box.add(p);
+    const int w = t.next[v];
+    m[v].start[0] = x0[v];
+    m[v].end[0] = x1[v];
+    if (t.offset[v].isZero()) {
+      m[v].start[1] = x0[w];
+      m[v].end[1] = x1[w];
+    } else {  // the segment crosses into the neighbouring image
+      image_points(rve, s0, st0, s1, st1, o + t.offset[v], w, m[v].start[1], m[v].end[1]);
+      box.add(m[v].start[1]);
+      box.add(m[v].end[1]);
+    }
   }
   return m;
 }
@@ -45,32 +71,36 @@ int for_each_pair(const RveProblem& rve, const Strain& s0, const RveState& st0, 
                   double reach, F f) {
   Box base_box;
   const std::vector<SegmentMove> base = image_moves(rve, s0, st0, s1, st1, Eigen::Vector2i::Zero(), base_box);
-  int images = 0;
+  const int n = static_cast<int>(base.size());
   // Rings of images around the base tile, outwards until a whole ring is out of reach (the
-  // shell map is injective and its images recede with the ring index).
-  for (int k = 0;; ++k) {
+  // shell map is injective and its images recede with the ring index); the segments of the
+  // images within reach go into one list, checked against one grid of the base tile.
+  std::vector<SegmentMove> all = base;
+  std::vector<Eigen::Vector2i> offsets = {Eigen::Vector2i::Zero()};
+  for (int k = 1; k <= 64; ++k) {  // 64: a tile far smaller than its yarns
     bool any = false;
     for (int ox = -k; ox <= k; ++ox)
       for (int oy = -k; oy <= k; ++oy) {
         if (std::max(std::abs(ox), std::abs(oy)) != k) continue;
         const Eigen::Vector2i o(ox, oy);
         Box img;
-        const std::vector<SegmentMove> moves =
-            k == 0 ? base : image_moves(rve, s0, st0, s1, st1, o, img);
-        if (k > 0 && !img.near(base_box, reach)) continue;
+        std::vector<SegmentMove> moves = image_moves(rve, s0, st0, s1, st1, o, img);
+        if (!img.near(base_box, reach)) continue;
         any = true;
-        ++images;
-        for (const auto& [v, w] : swept_pairs(base, moves, reach)) {
-          // Each unordered pair once: (v, w at o) and (w, v at -o) are the same.
-          if (v > w || (v == w && (ox < 0 || (ox == 0 && oy <= 0)))) continue;
-          if (rve.excluded(v, w, o)) continue;
-          f(base[v], moves[w]);
-        }
+        all.insert(all.end(), moves.begin(), moves.end());
+        offsets.push_back(o);
       }
-    if (!any && k > 0) break;
-    if (k > 64) break;  // a tile far smaller than the yarns: the contact broad phase would be wrong too
+    if (!any) break;
   }
-  return images;
+  for (const auto& [v, j] : swept_pairs(base, all, reach)) {
+    const int w = j % n;
+    const Eigen::Vector2i o = offsets[j / n];
+    // Each unordered pair once: (v, w at o) and (w, v at -o) are the same.
+    if (v > w || (v == w && (o[0] < 0 || (o[0] == 0 && o[1] <= 0)))) continue;
+    if (rve.excluded(v, w, o)) continue;
+    f(base[v], all[j]);
+  }
+  return static_cast<int>(offsets.size());
 }
 
 }  // namespace
