@@ -20,10 +20,12 @@ void register_plot(CLI::App& app);   // tools/cmd_plot.cpp
 void register_pipeline(CLI::App& app);  // tools/cmd_pipeline.cpp
 void register_rve(CLI::App& app);       // tools/cmd_rve.cpp
 void register_produce(CLI::App& app);   // tools/cmd_produce.cpp
+void register_sim(CLI::App& app);       // tools/cmd_sim.cpp
+void register_export_hylc(CLI::App& app);  // tools/cmd_export_hylc.cpp
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
   return {register_synth, register_train, register_eval, register_bake, register_error, register_plot,
-          register_pipeline, register_rve, register_produce};
+          register_pipeline, register_rve, register_produce, register_sim, register_export_hylc};
 }
 
 }  // namespace yarnhom::tools
