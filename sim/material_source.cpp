@@ -49,12 +49,7 @@ LoadedMaterial load_material(const std::string& path) {
   auto mat = std::make_shared<BakedMaterial>(make_baked_material(bm, path, &out.missing_terms));
   out.kind = "baked";
   out.fn = baked_material_fn(mat);
-  const h5::Node f = h5::open_file(path);
-  if (f.has_attr("areal_density")) {
-    const double rho = f.attr_double("areal_density");
-    if (!std::isfinite(rho) || rho < 0) throw std::invalid_argument(path + ": attribute areal_density is not a non-negative number");
-    if (rho > 0) out.areal_density = rho;
-  }
+  if (std::isfinite(bm.areal_density) && bm.areal_density > 0) out.areal_density = bm.areal_density;
   return out;
 }
 
