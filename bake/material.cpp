@@ -59,37 +59,14 @@ EvenOdd series_parts(const double h[4], double q) {
   return e;
 }
 
-// Value, gradient and Hessian of B_3 in (p, II_x, II_a, II_y).
-BendingEval bending3(const BakedTerm& t, double p, double a, double b, double c) {
-  const bool two = t.dim == 2;
-  const int lam = two ? 1 : 0;  // the curvature axis of the table
+// Value, gradient and Hessian of B_3 in (p, II_x, II_a, II_y) for any curvature function:
+// jet(l, order, out) writes the jet of the term at curvature l (and the fixed p), in the
+// layout of core/jet_layout.hpp; tau is the umbilic series' switch radius.
+template <class Jet>
+BendingEval bending3_of(const Jet& jet, bool two, double tau, double p, double a, double b, double c) {
   const double m = 0.5 * (a + c), d = 0.5 * (a - c);
   const double r = std::hypot(d, b), q = r * r;
-  const double tau = 1e-2 / t.inv_h[lam];
   EvenOdd G, P{}, PP{};  // parts of g, g_p, g_pp as functions of the curvature
-  auto jet = [&](double l, int order, double* out) {
-    if (order <= 2) {  // the fast value-gradient-Hessian paths
-      if (two) {
-        const BakedJet2 r = eval_baked_2d(t, {p, l});
-        out[0] = r.f;
-        out[1] = r.g[0];
-        out[2] = r.g[1];
-        out[3] = r.H(0, 0);
-        out[4] = r.H(0, 1);
-        out[5] = r.H(1, 1);
-      } else {
-        const BakedJet1 r = eval_baked_1d(t, l);
-        out[0] = r.f;
-        out[1] = r.df;
-        out[2] = r.d2f;
-      }
-    } else if (two) {
-      const double s[2] = {p, l};
-      eval_baked_jet(t, s, order, out);
-    } else {
-      eval_baked_jet(t, &l, order, out);
-    }
-  };
   if (r >= tau) {
     double ju[10], jv[10];
     jet(m + r, 2, ju);
@@ -157,6 +134,38 @@ BendingEval bending3(const BakedTerm& t, double p, double a, double b, double c)
   return e;
 }
 
+// The baked table's instance: the fast value-gradient-Hessian paths up to order 2.
+BendingEval bending3(const BakedTerm& t, double p, double a, double b, double c) {
+  const bool two = t.dim == 2;
+  const int lam = two ? 1 : 0;  // the curvature axis of the table
+  const double tau = 1e-2 / t.inv_h[lam];
+  auto jet = [&](double l, int order, double* out) {
+
+    if (order <= 2) {  // the fast value-gradient-Hessian paths
+      if (two) {
+        const BakedJet2 r = eval_baked_2d(t, {p, l});
+        out[0] = r.f;
+        out[1] = r.g[0];
+        out[2] = r.g[1];
+        out[3] = r.H(0, 0);
+        out[4] = r.H(0, 1);
+        out[5] = r.H(1, 1);
+      } else {
+        const BakedJet1 r = eval_baked_1d(t, l);
+        out[0] = r.f;
+        out[1] = r.df;
+        out[2] = r.d2f;
+      }
+    } else if (two) {
+      const double s[2] = {p, l};
+      eval_baked_jet(t, s, order, out);
+    } else {
+      eval_baked_jet(t, &l, order, out);
+    }
+  };
+  return bending3_of(jet, two, tau, p, a, b, c);
+}
+
 }  // namespace
 
 BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy) {
@@ -165,6 +174,20 @@ BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, do
   // B_5[g](II_x, II_a, II_y) = B_3[g](II_y, II_a, II_x): swapping the diagonal entries of K
   // swaps c2 and 1 - c2.
   BendingEval e = bending3(t, p, IIy, IIa, IIx);
+  std::swap(e.grad[1], e.grad[3]);
+  Eigen::Matrix4d P = Eigen::Matrix4d::Identity();
+  P(1, 1) = P(3, 3) = 0;
+  P(1, 3) = P(3, 1) = 1;
+  e.hess = P * e.hess * P;
+  return e;
+}
+
+BendingEval eval_bending_general(const CurvatureJet& jet, bool two_d, double tau, int which, double p, double IIx,
+                                 double IIa, double IIy) {
+  if (which != 3 && which != 5) throw std::invalid_argument("eval_bending_general: which must be 3 or 5");
+  auto j = [&](double l, int order, double* out) { jet(p, l, order, out); };
+  if (which == 3) return bending3_of(j, two_d, tau, p, IIx, IIa, IIy);
+  BendingEval e = bending3_of(j, two_d, tau, p, IIy, IIa, IIx);  // B_5 as in eval_bending
   std::swap(e.grad[1], e.grad[3]);
   Eigen::Matrix4d P = Eigen::Matrix4d::Identity();
   P(1, 1) = P(3, 3) = 0;

@@ -21,6 +21,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -59,5 +60,15 @@ struct BendingEval {
   Eigen::Matrix4d hess = Eigen::Matrix4d::Zero();
 };
 BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy);
+
+// The same mixing for a curvature function that is not a baked table (HYLC's splines,
+// sim/hylc_material.hpp): jet(p, l, order, out) writes the term's jet at (p, l) (1D: at l, p
+// ignored) in the layout of core/jet_layout.hpp, up to order 3. tau: the radius r below which
+// the umbilic series is used; the series is exact where the term is a cubic in the curvature
+// on [m - r, m + r], so tau should be a small fraction (the baked tables use 1e-2) of the
+// shortest spline interval.
+using CurvatureJet = std::function<void(double p, double l, int order, double* out)>;
+BendingEval eval_bending_general(const CurvatureJet& jet, bool two_d, double tau, int which, double p, double IIx,
+                                 double IIa, double IIy);
 
 }  // namespace yarnhom

@@ -24,11 +24,14 @@ void register_fit_splines(CLI::App& app);  // tools/cmd_fit_splines.cpp
 void register_accuracy(CLI::App& app);     // tools/cmd_accuracy.cpp
 void register_study_accuracy(CLI::App& app);  // tools/cmd_study.cpp: study table5, bake-resolution, rve-size
 void register_study_architectures(CLI::App& app);  // tools/cmd_study_architectures.cpp: study architectures
+void register_sim(CLI::App& app);       // tools/cmd_sim.cpp
+void register_export_hylc(CLI::App& app);  // tools/cmd_export_hylc.cpp
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
-  return {register_synth, register_train, register_eval, register_bake, register_error, register_plot,
-          register_pipeline, register_rve, register_produce, register_fit_splines, register_accuracy,
-          register_study_accuracy, register_study_architectures};
+  return {register_synth,       register_train,        register_eval,         register_bake,
+          register_error,       register_plot,         register_pipeline,     register_rve,
+          register_produce,     register_sim,          register_export_hylc,  register_fit_splines,
+          register_accuracy,    register_study_accuracy, register_study_architectures};
 }
 
 }  // namespace yarnhom::tools

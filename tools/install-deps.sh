@@ -3,7 +3,7 @@
 # what is already there. Runs apt-get through sudo when not root.
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev libcli11-dev libgtest-dev
-      libgmock-dev libbenchmark-dev python3 python3-numpy python3-h5py python3-matplotlib)
+      libgmock-dev libbenchmark-dev nlohmann-json3-dev libsuitesparse-dev python3 python3-numpy python3-h5py python3-matplotlib)
 # PyTorch is only the reference the tests compare against (skipped without it); set
 # YARNHOM_NO_TORCH=1 to leave it out.
 [ "${YARNHOM_NO_TORCH:-0}" = 1 ] || pkgs+=(python3-torch)

@@ -1,0 +1,129 @@
+#include "sim/integrators.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace yarnhom::sim {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+}  // namespace
+
+void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x) {
+  for (size_t v = 0; v < D.free_index.size(); ++v)
+    if (D.free_index[v] < 0) x.segment<3>(3 * v) = target.segment<3>(3 * v);
+}
+
+StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                              Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                              const NewtonSettings& opt, bool profile) {
+  StepState S;
+  S.dynamic = true;
+  S.h = h;
+  S.x_prev = x;
+  S.x_tilde = x + h * v;
+  if (P.air_drag > 0) S.normals = vertex_normals(P.mesh, x);
+  if (P.rayleigh_beta > 0) S.K_prev = elastic_hessian(P, pat, x);
+  // Initial guess: the inertial prediction, shortened to stay outside the colliders; then the
+  // prescribed vertices at their targets.
+  Eigen::VectorXd xn = x;
+  Eigen::VectorXd dx = h * v;
+  for (size_t i = 0; i < D.free_index.size(); ++i)
+    if (D.free_index[i] < 0) dx.segment<3>(3 * i).setZero();
+  xn += max_feasible_step(P, x, dx) * dx;
+  apply_targets(D, target, xn);
+  StepStats out;
+  out.newton = newton_minimize(P, D, pat, solver, S, xn, opt, profile);
+  v = (xn - x) / h;
+  x = xn;
+  out.finite = x.allFinite() && v.allFinite();
+  return out;
+}
+
+StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                          Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                          bool profile) {
+  StepStats out;
+  auto t0 = Clock::now();
+  // Prescribed vertices move first; their velocity over the step is known.
+  Eigen::VectorXd xs = x;
+  apply_targets(D, target, xs);
+  for (size_t i = 0; i < D.free_index.size(); ++i)
+    if (D.free_index[i] < 0) v.segment<3>(3 * i) = (xs.segment<3>(3 * i) - x.segment<3>(3 * i)) / h;
+  // f = -grad(E_shell + gravity) and K over the free vertices (no collider barrier here).
+  Eigen::SparseMatrix<double> K = pat.matrix;
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  Eigen::VectorXd grad = Eigen::VectorXd::Zero(x.size());
+  shell_energy_derivatives(P.mesh, P.rest, P.material, xs, grad, &pat, K.valuePtr(),
+                           profile ? &out.newton.shell : nullptr);
+  const int F = D.num_free();
+  Eigen::VectorXd vf(3 * F), rhs(3 * F);
+  const Eigen::MatrixX3d normals = P.air_drag > 0 ? vertex_normals(P.mesh, xs) : Eigen::MatrixX3d();
+  for (int i = 0; i < F; ++i) {
+    const int vtx = D.free_vertices[i];
+    vf.segment<3>(3 * i) = v.segment<3>(3 * vtx);
+    const double m = P.mass[vtx];
+    rhs.segment<3>(3 * i) = h * (-grad.segment<3>(3 * vtx) + m * P.gravity - P.rayleigh_alpha * m * v.segment<3>(3 * vtx));
+  }
+  // Kv with K symmetric (lower stored); then A = M(1 + h alpha) + h(h + beta) K (+ air).
+  const Eigen::VectorXd Kv = K.selfadjointView<Eigen::Lower>() * vf;
+  rhs -= h * (h + P.rayleigh_beta) * Kv;
+  Eigen::SparseMatrix<double> A = K * (h * (h + P.rayleigh_beta));
+  for (int i = 0; i < F; ++i) {
+    const int vtx = D.free_vertices[i];
+    Eigen::Matrix3d B = Eigen::Matrix3d::Identity() * P.mass[vtx] * (1 + h * P.rayleigh_alpha);
+    if (P.air_drag > 0) {
+      const Eigen::Vector3d n = normals.row(vtx).transpose();
+      const Eigen::Matrix3d C = P.air_drag * P.vertex_area[vtx] * n * n.transpose();
+      B += h * C;
+      rhs.segment<3>(3 * i) -= h * C * v.segment<3>(3 * vtx);
+    }
+    add_vertex_hessian(pat, i, B, A.valuePtr());
+  }
+  auto t1 = Clock::now();
+  out.newton.t_assemble = seconds(t0, t1);
+  bool ok = solver.factorize(A);
+  if (!ok) {
+    out.finite = false;
+    return out;
+  }
+  const Eigen::VectorXd dv = solver.solve(rhs);
+  out.newton.t_solve = seconds(t1, Clock::now());
+  out.newton.iterations = 1;
+  out.newton.converged = true;
+  for (int i = 0; i < F; ++i) {
+    const int vtx = D.free_vertices[i];
+    v.segment<3>(3 * vtx) += dv.segment<3>(3 * i);
+    xs.segment<3>(3 * vtx) += h * v.segment<3>(3 * vtx);
+  }
+  // Collider projection.
+  for (int i = 0; i < F; ++i) {
+    const int vtx = D.free_vertices[i];
+    for (const Collider& c : P.colliders) {
+      Eigen::Vector3d n;
+      const double d = collider_distance(c, xs.segment<3>(3 * vtx), &n);
+      if (!(d < P.dhat)) continue;
+      xs.segment<3>(3 * vtx) += (P.dhat - d) * n;
+      const double vn = v.segment<3>(3 * vtx).dot(n);
+      if (vn < 0) v.segment<3>(3 * vtx) -= vn * n;
+      ++out.projected_vertices;
+    }
+  }
+  x = xs;
+  out.finite = x.allFinite() && v.allFinite();
+  return out;
+}
+
+StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                       Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt, bool profile) {
+  StepState S;
+  S.dynamic = false;
+  apply_targets(D, target, x);
+  StepStats out;
+  out.newton = newton_minimize(P, D, pat, solver, S, x, opt, profile);
+  out.finite = x.allFinite();
+  return out;
+}
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,44 @@
+#pragma once
+// The time steppers and the static solve (spec section 10).
+//
+// implicit_euler_step: x_{n+1} = argmin Phi (sim/potential.hpp) by Newton with line search;
+//   v_{n+1} = (x_{n+1} - x_n)/h. Prescribed vertices are placed at their targets for t_{n+1}.
+//   The initial guess is x_n + h v_n, shortened where it would enter a collider.
+// linearized_step: ARCSim-HYLC's integrator (Baraff and Witkin 1998): one linear solve, no
+//   line search,
+//     (M (1 + h alpha) + h (h + beta) K + h C_air) dv = h (f - alpha M v - (h + beta) K v - C_air v),
+//   v += dv, x += h v, with f = -grad(E_shell + gravity) and K the projected elastic Hessian at
+//   x_n (prescribed vertices moved to their targets first, so a handle's motion enters through
+//   f and K). Colliders are not a barrier here (one unguarded step would jump over it): a
+//   vertex that ends within dhat of a collider is projected back to distance dhat and its
+//   normal velocity towards the collider removed (our simplification of ARCSim's impact
+//   zones).
+// static_solve: equilibrium of E_shell + gravity + colliders by the same Newton method.
+#include "sim/newton.hpp"
+
+namespace yarnhom::sim {
+
+struct StepStats {
+  NewtonStats newton;          // Newton integrator / static solve
+  bool finite = true;          // every position and velocity finite after the step
+  int projected_vertices = 0;  // linearized step: collider projections
+};
+
+// x, v: 3n. target: 3n positions of the prescribed vertices at the end of the step (other
+// entries ignored).
+StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                              Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                              const NewtonSettings& opt, bool profile = false);
+
+StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                          Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                          bool profile = false);
+
+StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                       Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt,
+                       bool profile = false);
+
+// Sets the prescribed vertices of x to target.
+void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x);
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,151 @@
+#include "sim/potential.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "sim/barrier.hpp"
+
+namespace yarnhom::sim {
+
+Eigen::MatrixX3d vertex_normals(const Mesh& m, const Eigen::VectorXd& x) {
+  Eigen::MatrixX3d n = Eigen::MatrixX3d::Zero(m.num_vertices(), 3);
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    const Eigen::Vector3d a = x.segment<3>(3 * m.tris(t, 0)), b = x.segment<3>(3 * m.tris(t, 1)),
+                          c = x.segment<3>(3 * m.tris(t, 2));
+    const Eigen::RowVector3d N = (b - a).cross(c - a).transpose();
+    for (int i = 0; i < 3; ++i) n.row(m.tris(t, i)) += N;
+  }
+  for (int v = 0; v < n.rows(); ++v) {
+    const double l = n.row(v).norm();
+    if (l > 0) n.row(v) /= l;
+  }
+  return n;
+}
+
+namespace {
+
+// Per-vertex terms (everything but the shell and the Rayleigh beta term), value and optional
+// gradient / Hessian block.
+double vertex_terms(const Problem& P, const StepState& S, const Eigen::VectorXd& x, int v, Eigen::Vector3d* g,
+                    Eigen::Matrix3d* H) {
+  const Eigen::Vector3d xv = x.segment<3>(3 * v);
+  const double m = P.mass[v], A = P.vertex_area[v];
+  double E = -m * P.gravity.dot(xv);
+  if (g) *g = -m * P.gravity;
+  if (H) H->setZero();
+  if (S.dynamic) {
+    const double h = S.h;
+    const Eigen::Vector3d dx = xv - S.x_tilde.segment<3>(3 * v);
+    E += 0.5 * m * dx.squaredNorm() / (h * h);
+    if (g) *g += m * dx / (h * h);
+    if (H) H->diagonal().array() += m / (h * h);
+    const Eigen::Vector3d dv = xv - S.x_prev.segment<3>(3 * v);
+    if (P.rayleigh_alpha > 0) {
+      const double c = P.rayleigh_alpha * m / h;
+      E += 0.5 * c * dv.squaredNorm();
+      if (g) *g += c * dv;
+      if (H) H->diagonal().array() += c;
+    }
+    if (P.air_drag > 0) {
+      const Eigen::Vector3d n = S.normals.row(v).transpose();
+      const double c = P.air_drag * A / h, dn = n.dot(dv);
+      E += 0.5 * c * dn * dn;
+      if (g) *g += c * dn * n;
+      if (H) *H += c * n * n.transpose();
+    }
+  }
+  for (const Collider& c : P.colliders) {
+    Eigen::Vector3d dg;
+    Eigen::Matrix3d dH;
+    const double d = collider_distance(c, xv, g ? &dg : nullptr, H ? &dH : nullptr);
+    if (d >= P.dhat) continue;
+    const BarrierValue b = barrier(d, P.dhat);
+    if (!std::isfinite(b.b)) return std::numeric_limits<double>::infinity();
+    const double k = P.kappa * A;
+    E += k * b.b;
+    if (g) *g += k * b.db * dg;
+    // b'' >= 0 inside the barrier's range; b' <= 0, so the curvature term of a sphere's
+    // distance is negative semi-definite: dropped (its projection).
+    if (H) {
+      *H += k * b.d2b * dg * dg.transpose();
+      if (b.db > 0) *H += k * b.db * dH;
+    }
+  }
+  return E;
+}
+
+}  // namespace
+
+namespace {
+
+// (beta/(2h)) dx^T K_n dx over the free unknowns, with its gradient (scattered to grad) and
+// its Hessian (beta/h) K_n added to values (same pattern).
+double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                          Eigen::VectorXd* grad, double* values) {
+  if (!S.dynamic || !(P.rayleigh_beta > 0) || S.K_prev.rows() == 0) return 0.0;
+  const double c = P.rayleigh_beta / S.h;
+  const Eigen::VectorXd dx = gather_free(D, x) - gather_free(D, S.x_prev);
+  const Eigen::VectorXd Kdx = S.K_prev.selfadjointView<Eigen::Lower>() * dx;
+  if (grad)
+    for (int i = 0; i < D.num_free(); ++i) grad->segment<3>(3 * D.free_vertices[i]) += c * Kdx.segment<3>(3 * i);
+  if (values)
+    for (Eigen::Index k = 0; k < S.K_prev.nonZeros(); ++k) values[k] += c * S.K_prev.valuePtr()[k];
+  return 0.5 * c * dx.dot(Kdx);
+}
+
+}  // namespace
+
+double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x) {
+  double E = shell_energy(P.mesh, P.rest, P.material, x);
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
+  return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
+}
+
+double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
+                             const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings) {
+  grad.setZero(x.size());
+  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings);
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) {
+    Eigen::Vector3d g;
+    Eigen::Matrix3d H;
+    const int f = D.free_index[v];
+    E += vertex_terms(P, S, x, v, &g, values && f >= 0 ? &H : nullptr);
+    grad.segment<3>(3 * v) += g;
+    if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
+  }
+  return E + rayleigh_beta_term(P, D, S, x, &grad, values);
+}
+
+Eigen::VectorXd potential_energy_gradient(const Problem& P, const Eigen::VectorXd& x) {
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, nullptr, nullptr);
+  StepState st;
+  st.dynamic = false;
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) {
+    Eigen::Vector3d gv;
+    vertex_terms(P, st, x, v, &gv, nullptr);
+    g.segment<3>(3 * v) += gv;
+  }
+  return g;
+}
+
+double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p) {
+  double t = 1.0;
+  for (const Collider& c : P.colliders)
+    for (int v = 0; v < P.mesh.num_vertices(); ++v) {
+      const Eigen::Vector3d pv = p.segment<3>(3 * v);
+      if (pv.squaredNorm() == 0) continue;
+      t = std::min(t, collider_time_of_impact(c, x.segment<3>(3 * v), pv));
+    }
+  return t < 1.0 ? 0.9 * t : 1.0;
+}
+
+Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPattern& pat, const Eigen::VectorXd& x) {
+  Eigen::SparseMatrix<double> K = pat.matrix;
+  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr());
+  return K;
+}
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,58 @@
+#pragma once
+// The function each solve minimizes (spec section 10; IPC's incremental potential). In a
+// dynamic step of size h, with x_n the current positions and x~ = x_n + h v_n,
+//
+//   Phi(x) = 1/(2h^2) |x - x~|_M^2                        inertia (lumped M)
+//          + E_shell(x)                                   sim/shell_energy.hpp
+//          - sum_v m_v g . x_v                            gravity
+//          + kappa sum_v sum_c A_v b(d_c(x_v))            colliders (sim/barrier.hpp)
+//          + 1/(2h) (x - x_n)^T (alpha M + beta K_n) (x - x_n)     Rayleigh damping
+//          + c_air/(2h) sum_v A_v ((x_v - x_v^n) . n_v)^2        air drag on the normal velocity
+//
+// whose stationarity is implicit Euler with those forces: M (x - x~)/h^2 = f(x), damping
+// forces -(alpha M + beta K_n) v and -c_air A (v.n) n with v = (x - x_n)/h (K_n and n_v frozen at
+// x_n, so the damping terms are exact quadratics). In a static solve only the elastic, gravity
+// and collider terms remain: equilibrium is the minimum of the potential energy.
+#include <Eigen/Sparse>
+
+#include "sim/dof_map.hpp"
+#include "sim/hessian_pattern.hpp"
+#include "sim/problem.hpp"
+#include "sim/shell_energy.hpp"
+
+namespace yarnhom::sim {
+
+struct StepState {
+  bool dynamic = true;
+  double h = 0;
+  Eigen::VectorXd x_tilde;  // 3n, x_n + h v_n
+  Eigen::VectorXd x_prev;   // 3n, x_n
+  Eigen::MatrixX3d normals; // [n] unit vertex normals at x_n (air drag)
+  Eigen::SparseMatrix<double> K_prev;  // lower triangle over the free unknowns (the pattern's),
+                                       // projected elastic Hessian at x_n (beta damping)
+};
+
+// Unit area-weighted vertex normals.
+Eigen::MatrixX3d vertex_normals(const Mesh& mesh, const Eigen::VectorXd& x);
+
+// +inf when a vertex is on or inside a collider.
+double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x);
+
+// Value; gradient (3n, every vertex) written to grad; Hessian over the free vertices added to
+// values (the pattern's value array) when given.
+double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
+                             const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values,
+                             ShellTimings* timings = nullptr);
+
+// Gradient of the potential energy E_shell + gravity + colliders at every vertex: at a
+// prescribed vertex, the force its clamp or handle exerts on the cloth (at equilibrium).
+Eigen::VectorXd potential_energy_gradient(const Problem& P, const Eigen::VectorXd& x);
+
+// Largest step fraction in (0, 1] along p (3n) that keeps every vertex outside the colliders,
+// scaled by 0.9 when limited (IPC's filtered line search).
+double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p);
+
+// Projected elastic Hessian alone (for Rayleigh damping's K_n).
+Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPattern& pat, const Eigen::VectorXd& x);
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,124 @@
+#include "sim/scene.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "sim/rectangle.hpp"
+
+namespace yarnhom::sim {
+
+Integrator parse_integrator(const std::string& name) {
+  if (name == "newton") return Integrator::Newton;
+  if (name == "linearized") return Integrator::Linearized;
+  if (name == "static") return Integrator::Static;
+  throw std::invalid_argument("integrator '" + name + "': expected newton, linearized or static");
+}
+
+const char* integrator_name(Integrator i) {
+  switch (i) {
+    case Integrator::Newton: return "newton";
+    case Integrator::Linearized: return "linearized";
+    case Integrator::Static: return "static";
+  }
+  return "?";
+}
+
+bool is_builtin_scene(const std::string& name) { return name == "drape" || name == "hang" || name == "stretch"; }
+
+int triangle_at(const Mesh& m, const Eigen::Vector2d& p) {
+  int best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    const Eigen::Vector2d c = (m.rest.row(m.tris(t, 0)) + m.rest.row(m.tris(t, 1)) + m.rest.row(m.tris(t, 2))).transpose() / 3;
+    const double d = (c - p).squaredNorm();
+    if (d < best_d) {
+      best_d = d;
+      best = t;
+    }
+  }
+  return best;
+}
+
+namespace {
+
+Scene drape(int n) {
+  const double L = 0.5, R = 0.15;
+  Scene s;
+  s.name = "drape";
+  s.mesh = make_rectangle(L, L, n, n);
+  // Sheet centred over the sphere's top, 5 cm above it.
+  for (int v = 0; v < s.mesh.num_vertices(); ++v) s.mesh.x.row(v) << s.mesh.rest(v, 0) - L / 2, s.mesh.rest(v, 1) - L / 2, R + 0.05;
+  Collider sphere;
+  sphere.kind = Collider::Kind::Sphere;
+  sphere.center = Eigen::Vector3d::Zero();
+  sphere.radius = R;
+  Collider floor;
+  floor.kind = Collider::Kind::Plane;
+  floor.center = Eigen::Vector3d(0, 0, -R);
+  floor.normal = Eigen::Vector3d::UnitZ();
+  s.colliders = {sphere, floor};
+  s.frames = 90;
+  s.render_frames = {0, 15, 30, 90};
+  return s;
+}
+
+Scene hang(int n) {
+  const double L = 0.5;
+  Scene s;
+  s.name = "hang";
+  s.mesh = make_rectangle(L, L, n, n);
+  Handle pins;
+  pins.vertices = {rectangle_vertex(n, 0, n), rectangle_vertex(n, n, n)};  // the two corners of the far (wale) edge
+  s.handles = {pins};
+  s.frames = 90;
+  s.render_frames = {0, 10, 30, 90};
+  return s;
+}
+
+Scene stretch(int n, char dir) {
+  const double L = 0.10, W = 0.05;
+  const bool course = dir == 'x';
+  // n quads across the width, 2n along the length.
+  const int nl = 2 * n, nw = n;
+  Scene s;
+  s.name = course ? "stretch-course" : "stretch-wale";
+  s.mesh = course ? make_rectangle(L, W, nl, nw) : make_rectangle(W, L, nw, nl);
+  s.gravity.setZero();
+  Handle fixed, moving;
+  const int nx = course ? nl : nw, ny = course ? nw : nl;
+  for (int k = 0; k <= (course ? ny : nx); ++k) {
+    fixed.vertices.push_back(course ? rectangle_vertex(nx, 0, k) : rectangle_vertex(nx, k, 0));
+    moving.vertices.push_back(course ? rectangle_vertex(nx, nx, k) : rectangle_vertex(nx, k, ny));
+  }
+  const Eigen::Vector3d axis = course ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d end = 0.7 * L * axis;
+  moving.path = {{0.0, 0, 0, 0}, {1.0, end.x(), end.y(), end.z()}};
+  s.handles = {fixed, moving};
+  s.integrator = Integrator::Static;
+  s.frames = 14;  // load parameter k/14: stretch 100 % + 5 % k
+  s.newton.tol_step = 1e-9;
+  s.render_frames = {0, 6, 14};
+  s.stretch.enabled = true;
+  s.stretch.moving_handle = 1;
+  s.stretch.axis = axis;
+  s.stretch.length = L;
+  s.stretch.width = W;
+  s.stretch.middle = course ? Eigen::Vector2d(L / 2, W / 2) : Eigen::Vector2d(W / 2, L / 2);
+  return s;
+}
+
+}  // namespace
+
+Scene builtin_scene(const std::string& name, int resolution, char direction) {
+  if (resolution < 0 || resolution > 2000) throw std::invalid_argument("--resolution must be between 1 and 2000");
+  if (name == "drape") return drape(resolution ? resolution : 40);
+  if (name == "hang") return hang(resolution ? resolution : 30);
+  if (name == "stretch") {
+    if (direction != 'x' && direction != 'y') throw std::invalid_argument("stretch direction must be course or wale");
+    return stretch(resolution ? resolution : 10, direction);
+  }
+  throw std::invalid_argument("scene '" + name + "': not a built-in scene (drape, hang, stretch) nor a .json file");
+}
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,66 @@
+#pragma once
+// A simulation scene: the mesh and where it starts, prescribed vertices, colliders, forces,
+// the integrator and the frames to write. Built in (drape, hang, stretch: docs/sim.md) or
+// read from a JSON file (sim/scene_json.hpp). The material is not part of the built-in scenes
+// (the command's --material); a scene file may name one.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/collider.hpp"
+#include "sim/handles.hpp"
+#include "sim/mesh.hpp"
+#include "sim/newton.hpp"
+
+namespace yarnhom::sim {
+
+enum class Integrator { Newton, Linearized, Static };
+Integrator parse_integrator(const std::string& name);  // "newton", "linearized", "static"
+const char* integrator_name(Integrator i);
+
+// The stretch test's report (spec section 11): the reaction of the moving clamp along the
+// axis divided by the undeformed width, per load step.
+struct StretchReport {
+  bool enabled = false;
+  size_t moving_handle = 0;  // index into Scene::handles
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+  double length = 0, width = 0;  // undeformed, m
+  Eigen::Vector2d middle = Eigen::Vector2d::Zero();  // rest point whose triangle is "the middle"
+};
+
+struct Scene {
+  std::string name;
+  Mesh mesh;                              // positions = where it starts
+  std::string material;                   // file, "" = the command's --material
+  std::optional<double> areal_density;    // kg/m^2, overrides the material's
+  Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81);
+  std::vector<Handle> handles;            // pins and moving handles
+  std::vector<Collider> colliders;
+  double dhat = 1e-3;                     // m
+  double kappa = 0;                       // Pa; 0 = 100 x areal density x |g|
+  double rayleigh_alpha = 0, rayleigh_beta = 0, air_drag = 0;
+  Integrator integrator = Integrator::Newton;
+  double dt = 1.0 / 30;                   // s per frame
+  int substeps = 1;                       // steps per frame
+  int frames = 90;                        // frames after the initial one
+  NewtonSettings newton;                  // tol_step 0: 1e-2 l h (dynamic), 1e-8 l (static); l = rest diagonal
+  std::vector<int> render_frames;         // frames drawn as PNG
+  StretchReport stretch;
+};
+
+// Built-in scenes. resolution: quads along the longer side (0 = the scene's default).
+// drape: a 0.5 m square sheet, 5 cm above a sphere of radius 0.15 m (and the floor below it),
+//   falls and drapes; 90 frames of 1/30 s.
+// hang: a 0.5 m square sheet held horizontally by two adjacent corners, released; it swings
+//   down and hangs; 90 frames of 1/30 s.
+// stretch: a 5 cm x 10 cm strip, long axis along the course (x) or the wale (y), both short
+//   ends clamped (every vertex of the end fixed in all three coordinates), the far clamp moved
+//   quasi-statically from 100 % to 170 % of the length in 5 % steps (14 load steps), no
+//   gravity.
+Scene builtin_scene(const std::string& name, int resolution = 0, char direction = 'x');
+bool is_builtin_scene(const std::string& name);
+
+// The triangle that contains (or is nearest to) a rest point.
+int triangle_at(const Mesh& mesh, const Eigen::Vector2d& rest_point);
+
+}  // namespace yarnhom::sim

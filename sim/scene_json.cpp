@@ -1,0 +1,252 @@
+#include "sim/scene_json.hpp"
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <stdexcept>
+
+#include "sim/obj_io.hpp"
+#include "sim/rectangle.hpp"
+
+namespace yarnhom::sim {
+
+namespace {
+
+using json = nlohmann::json;
+
+struct Reader {
+  std::string file;
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    throw std::invalid_argument(file + ": key '" + key + "': " + problem);
+  }
+  void only(const json& j, const std::string& where, std::set<std::string> allowed) const {
+    if (!j.is_object()) fail(where, "must be an object");
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!allowed.count(it.key())) fail(where.empty() ? it.key() : where + "." + it.key(), "unknown key");
+  }
+  double number(const json& j, const std::string& key) const {
+    if (!j.is_number()) fail(key, "must be a number");
+    const double x = j.get<double>();
+    if (!std::isfinite(x)) fail(key, "must be finite");
+    return x;
+  }
+  double positive(const json& j, const std::string& key) const {
+    const double x = number(j, key);
+    if (!(x > 0)) fail(key, "must be positive");
+    return x;
+  }
+  int integer(const json& j, const std::string& key, int lo) const {
+    if (!j.is_number_integer()) fail(key, "must be an integer");
+    const long long x = j.get<long long>();
+    if (x < lo || x > 100000000) fail(key, "must be an integer >= " + std::to_string(lo));
+    return int(x);
+  }
+  Eigen::Vector3d vec3(const json& j, const std::string& key) const {
+    if (!j.is_array() || j.size() != 3) fail(key, "must be an array of 3 numbers");
+    return Eigen::Vector3d(number(j[0], key), number(j[1], key), number(j[2], key));
+  }
+  std::string path(const json& j, const std::string& key) const {
+    if (!j.is_string()) fail(key, "must be a file name (string)");
+    std::filesystem::path p(j.get<std::string>());
+    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+    return p.string();
+  }
+  std::vector<int> select(const json& j, const std::string& key, const Mesh& m) const {
+    only(j, key, {"vertices", "rest_box"});
+    std::vector<int> out;
+    if (j.contains("vertices")) {
+      const json& v = j["vertices"];
+      if (!v.is_array()) fail(key + ".vertices", "must be an array of vertex indices");
+      for (const json& i : v) {
+        const int k = integer(i, key + ".vertices", 0);
+        if (k >= m.num_vertices())
+          fail(key + ".vertices", "vertex " + std::to_string(k) + " out of range (" + std::to_string(m.num_vertices()) + " vertices)");
+        out.push_back(k);
+      }
+    }
+    if (j.contains("rest_box")) {
+      const json& b = j["rest_box"];
+      if (!b.is_array() || b.size() != 4) fail(key + ".rest_box", "must be [u0, v0, u1, v1]");
+      const double u0 = number(b[0], key), v0 = number(b[1], key), u1 = number(b[2], key), v1 = number(b[3], key);
+      const double tol = 1e-9 * (1 + m.rest.cwiseAbs().maxCoeff());
+      for (int v = 0; v < m.num_vertices(); ++v)
+        if (m.rest(v, 0) >= u0 - tol && m.rest(v, 0) <= u1 + tol && m.rest(v, 1) >= v0 - tol && m.rest(v, 1) <= v1 + tol)
+          out.push_back(v);
+      if (out.empty()) fail(key + ".rest_box", "selects no vertex");
+    }
+    if (out.empty()) fail(key, "selects no vertex (give vertices or rest_box)");
+    return out;
+  }
+};
+
+}  // namespace
+
+Scene read_scene_json(const std::string& file) {
+  std::ifstream in(file);
+  if (!in) throw std::invalid_argument(file + ": cannot open");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::invalid_argument(file + ": not valid JSON: " + e.what());
+  }
+  const Reader r{file};
+  r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
+                 "barrier", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
+  Scene s;
+  s.name = std::filesystem::path(file).stem().string();
+  if (j.contains("name")) {
+    if (!j["name"].is_string()) r.fail("name", "must be a string");
+    s.name = j["name"].get<std::string>();
+  }
+  if (!j.contains("mesh")) r.fail("mesh", "missing (give {\"obj\": FILE} or {\"rectangle\": {...}})");
+  const json& jm = j["mesh"];
+  r.only(jm, "mesh", {"obj", "rectangle"});
+  if (jm.contains("obj")) {
+    s.mesh = read_obj(r.path(jm["obj"], "mesh.obj"));
+  } else if (jm.contains("rectangle")) {
+    const json& rc = jm["rectangle"];
+    r.only(rc, "mesh.rectangle", {"width", "height", "nx", "ny"});
+    for (const char* k : {"width", "height", "nx", "ny"})
+      if (!rc.contains(k)) r.fail(std::string("mesh.rectangle.") + k, "missing");
+    s.mesh = make_rectangle(r.positive(rc["width"], "mesh.rectangle.width"), r.positive(rc["height"], "mesh.rectangle.height"),
+                            r.integer(rc["nx"], "mesh.rectangle.nx", 1), r.integer(rc["ny"], "mesh.rectangle.ny", 1));
+  } else {
+    r.fail("mesh", "give {\"obj\": FILE} or {\"rectangle\": {...}}");
+  }
+  if (j.contains("position")) {
+    const json& p = j["position"];
+    r.only(p, "position", {"rotate_deg", "translate"});
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d t = Eigen::Vector3d::Zero();
+    if (p.contains("rotate_deg")) {
+      const Eigen::Vector3d a = r.vec3(p["rotate_deg"], "position.rotate_deg") * (M_PI / 180);
+      R = (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+           Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX())).toRotationMatrix();
+    }
+    if (p.contains("translate")) t = r.vec3(p["translate"], "position.translate");
+    for (int v = 0; v < s.mesh.num_vertices(); ++v) s.mesh.x.row(v) = (R * s.mesh.x.row(v).transpose() + t).transpose();
+  }
+  if (j.contains("material")) s.material = r.path(j["material"], "material");
+  if (j.contains("areal_density")) s.areal_density = r.positive(j["areal_density"], "areal_density");
+  if (j.contains("gravity")) s.gravity = r.vec3(j["gravity"], "gravity");
+  if (j.contains("pins")) {
+    if (!j["pins"].is_array()) r.fail("pins", "must be an array of selections");
+    Handle h;
+    for (size_t k = 0; k < j["pins"].size(); ++k) {
+      auto v = r.select(j["pins"][k], "pins[" + std::to_string(k) + "]", s.mesh);
+      h.vertices.insert(h.vertices.end(), v.begin(), v.end());
+    }
+    s.handles.push_back(h);
+  }
+  if (j.contains("handles")) {
+    if (!j["handles"].is_array()) r.fail("handles", "must be an array");
+    for (size_t k = 0; k < j["handles"].size(); ++k) {
+      const std::string key = "handles[" + std::to_string(k) + "]";
+      const json& jh = j["handles"][k];
+      r.only(jh, key, {"select", "path"});
+      if (!jh.contains("select")) r.fail(key + ".select", "missing");
+      Handle h;
+      h.vertices = r.select(jh["select"], key + ".select", s.mesh);
+      if (jh.contains("path")) {
+        const json& p = jh["path"];
+        if (!p.is_array() || p.empty()) r.fail(key + ".path", "must be a non-empty array of [t, dx, dy, dz]");
+        for (const json& kf : p) {
+          if (!kf.is_array() || kf.size() != 4) r.fail(key + ".path", "each keyframe must be [t, dx, dy, dz]");
+          std::array<double, 4> a;
+          for (int i = 0; i < 4; ++i) a[i] = r.number(kf[i], key + ".path");
+          if (!h.path.empty() && !(a[0] > h.path.back()[0])) r.fail(key + ".path", "keyframe times must increase");
+          h.path.push_back(a);
+        }
+      }
+      s.handles.push_back(h);
+    }
+  }
+  if (j.contains("colliders")) {
+    if (!j["colliders"].is_array()) r.fail("colliders", "must be an array");
+    for (size_t k = 0; k < j["colliders"].size(); ++k) {
+      const std::string key = "colliders[" + std::to_string(k) + "]";
+      const json& jc = j["colliders"][k];
+      r.only(jc, key, {"sphere", "plane"});
+      Collider c;
+      if (jc.contains("sphere")) {
+        const json& sp = jc["sphere"];
+        r.only(sp, key + ".sphere", {"center", "radius"});
+        if (!sp.contains("center") || !sp.contains("radius")) r.fail(key + ".sphere", "needs center and radius");
+        c.kind = Collider::Kind::Sphere;
+        c.center = r.vec3(sp["center"], key + ".sphere.center");
+        c.radius = r.positive(sp["radius"], key + ".sphere.radius");
+      } else if (jc.contains("plane")) {
+        const json& pl = jc["plane"];
+        r.only(pl, key + ".plane", {"point", "normal"});
+        if (!pl.contains("point") || !pl.contains("normal")) r.fail(key + ".plane", "needs point and normal");
+        c.kind = Collider::Kind::Plane;
+        c.center = r.vec3(pl["point"], key + ".plane.point");
+        c.normal = r.vec3(pl["normal"], key + ".plane.normal");
+        if (!(c.normal.norm() > 0)) r.fail(key + ".plane.normal", "must be non-zero");
+        c.normal.normalize();
+      } else {
+        r.fail(key, "give sphere or plane");
+      }
+      s.colliders.push_back(c);
+    }
+  }
+  if (j.contains("barrier")) {
+    r.only(j["barrier"], "barrier", {"dhat", "kappa"});
+    if (j["barrier"].contains("dhat")) s.dhat = r.positive(j["barrier"]["dhat"], "barrier.dhat");
+    if (j["barrier"].contains("kappa")) s.kappa = r.positive(j["barrier"]["kappa"], "barrier.kappa");
+  }
+  if (j.contains("damping")) {
+    const json& d = j["damping"];
+    r.only(d, "damping", {"rayleigh_alpha", "rayleigh_beta", "air"});
+    auto nonneg = [&](const char* k, double& out) {
+      if (!d.contains(k)) return;
+      out = r.number(d[k], std::string("damping.") + k);
+      if (out < 0) r.fail(std::string("damping.") + k, "must be >= 0");
+    };
+    nonneg("rayleigh_alpha", s.rayleigh_alpha);
+    nonneg("rayleigh_beta", s.rayleigh_beta);
+    nonneg("air", s.air_drag);
+  }
+  if (j.contains("integrator")) {
+    if (!j["integrator"].is_string()) r.fail("integrator", "must be newton, linearized or static");
+    try {
+      s.integrator = parse_integrator(j["integrator"].get<std::string>());
+    } catch (const std::exception& e) {
+      r.fail("integrator", e.what());
+    }
+  }
+  if (j.contains("dt")) s.dt = r.positive(j["dt"], "dt");
+  if (j.contains("substeps")) s.substeps = r.integer(j["substeps"], "substeps", 1);
+  if (j.contains("frames")) s.frames = r.integer(j["frames"], "frames", 1);
+  if (j.contains("newton")) {
+    r.only(j["newton"], "newton", {"tolerance", "max_iterations"});
+    if (j["newton"].contains("tolerance")) s.newton.tol_step = r.positive(j["newton"]["tolerance"], "newton.tolerance");
+    if (j["newton"].contains("max_iterations"))
+      s.newton.max_iterations = r.integer(j["newton"]["max_iterations"], "newton.max_iterations", 1);
+  }
+  if (j.contains("render")) {
+    if (!j["render"].is_array()) r.fail("render", "must be an array of frame numbers");
+    for (const json& f : j["render"]) s.render_frames.push_back(r.integer(f, "render", 0));
+  }
+  if (j.contains("stretch_report")) {
+    const json& sr = j["stretch_report"];
+    r.only(sr, "stretch_report", {"handle", "axis", "length", "width", "middle"});
+    for (const char* k : {"handle", "axis", "length", "width", "middle"})
+      if (!sr.contains(k)) r.fail(std::string("stretch_report.") + k, "missing");
+    s.stretch.enabled = true;
+    s.stretch.moving_handle = size_t(r.integer(sr["handle"], "stretch_report.handle", 0));
+    if (s.stretch.moving_handle >= s.handles.size())
+      r.fail("stretch_report.handle", "no such handle (pins, if given, are handle 0)");
+    s.stretch.axis = r.vec3(sr["axis"], "stretch_report.axis").normalized();
+    s.stretch.length = r.positive(sr["length"], "stretch_report.length");
+    s.stretch.width = r.positive(sr["width"], "stretch_report.width");
+    if (!sr["middle"].is_array() || sr["middle"].size() != 2) r.fail("stretch_report.middle", "must be [u, v]");
+    s.stretch.middle = Eigen::Vector2d(r.number(sr["middle"][0], "stretch_report.middle"), r.number(sr["middle"][1], "stretch_report.middle"));
+  }
+  return s;
+}
+
+}  // namespace yarnhom::sim

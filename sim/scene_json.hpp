@@ -1,0 +1,30 @@
+#pragma once
+// Scene files (JSON), the format of docs/sim.md:
+//   {
+//     "mesh": {"obj": "cloth.obj"} | {"rectangle": {"width": 0.5, "height": 0.5, "nx": 40, "ny": 40}},
+//     "position": {"rotate_deg": [rx, ry, rz], "translate": [x, y, z]},      (optional)
+//     "material": "baked.h5" | "hylc.json",                                   (optional)
+//     "areal_density": 0.3, "gravity": [0, 0, -9.81],
+//     "pins": [SELECTION, ...],
+//     "handles": [{"select": SELECTION, "path": [[t, dx, dy, dz], ...]}, ...],
+//     "colliders": [{"sphere": {"center": [..], "radius": r}}, {"plane": {"point": [..], "normal": [..]}}],
+//     "barrier": {"dhat": 1e-3, "kappa": 100},
+//     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},
+//     "integrator": "newton" | "linearized" | "static",
+//     "dt": 0.0333, "substeps": 1, "frames": 90,
+//     "newton": {"tolerance": 1e-6, "max_iterations": 100},
+//     "render": [0, 30, 90],
+//     "stretch_report": {"handle": 1, "axis": [1, 0, 0], "length": 0.1, "width": 0.05, "middle": [0.05, 0.025]}
+//   }
+// SELECTION = {"vertices": [i, ...]} (0-based) or {"rest_box": [u0, v0, u1, v1]} (every vertex
+// whose rest position lies in the box, metres). Paths are relative to the scene file.
+// Unknown keys and wrong types are refused, naming the file and the key.
+#include <string>
+
+#include "sim/scene.hpp"
+
+namespace yarnhom::sim {
+
+Scene read_scene_json(const std::string& path);
+
+}  // namespace yarnhom::sim

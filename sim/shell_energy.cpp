@@ -1,0 +1,136 @@
+#include "sim/shell_energy.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+
+#include "sim/psd_projection.hpp"
+#include "sim/shell_strain.hpp"
+
+namespace yarnhom::sim {
+
+namespace {
+
+Vec18 gather(const Mesh& m, const Eigen::VectorXd& x, int t, bool has_flap[3]) {
+  Vec18 q = Vec18::Zero();
+  for (int i = 0; i < 3; ++i) {
+    q.segment<3>(3 * i) = x.segment<3>(3 * m.tris(t, i));
+    const int f = m.flaps(t, i);
+    has_flap[i] = f >= 0;
+    if (f >= 0) q.segment<3>(9 + 3 * i) = x.segment<3>(3 * f);
+  }
+  return q;
+}
+
+// Below this many triangles one thread does the loop: a fork and join costs more than the work,
+// and much more when the cores are shared (OpenMP barriers wait on descheduled threads).
+constexpr int kParallelElements = 1024;
+
+using Clock = std::chrono::steady_clock;
+inline double since(Clock::time_point& t0) {
+  const auto t1 = Clock::now();
+  const double s = std::chrono::duration<double>(t1 - t0).count();
+  t0 = t1;
+  return s;
+}
+
+}  // namespace
+
+std::vector<ElementRest> make_element_rests(const Mesh& m) {
+  std::vector<ElementRest> r(m.num_triangles());
+  for (int t = 0; t < m.num_triangles(); ++t)
+    r[t] = element_rest(m.rest.row(m.tris(t, 0)), m.rest.row(m.tris(t, 1)), m.rest.row(m.tris(t, 2)));
+  return r;
+}
+
+double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi, const Eigen::VectorXd& x) {
+  double E = 0;
+#pragma omp parallel for reduction(+ : E) schedule(static) if (m.num_triangles() >= kParallelElements)
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    bool fl[3];
+    const Vec18 q = gather(m, x, t, fl);
+    const Strain6 s = shell_strain(q, rest[t], fl);
+    E += rest[t].area * psi(s).psi;
+  }
+  return E;
+}
+
+double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi,
+                                const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
+                                double* values, ShellTimings* timings, bool project) {
+  const bool hess = pattern && values;
+  const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
+  const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
+  // Thread 0 accumulates straight into the outputs; the others into their own arrays.
+  std::vector<Eigen::VectorXd> g_local(nthreads - 1, Eigen::VectorXd::Zero(grad.size()));
+  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0, std::vector<double>(nnz, 0.0));
+  std::vector<ShellTimings> tim(nthreads);
+  double E = 0;
+#pragma omp parallel reduction(+ : E) if (m.num_triangles() >= kParallelElements)
+  {
+    const int tid = omp_get_thread_num();
+    Eigen::VectorXd& g = tid == 0 ? grad : g_local[tid - 1];
+    double* hv = hess ? (tid == 0 ? values : h_local[tid - 1].data()) : nullptr;
+    ShellTimings& tm = tim[tid];
+    auto t0 = Clock::now();
+#pragma omp for schedule(static)
+    for (int t = 0; t < m.num_triangles(); ++t) {
+      bool fl[3];
+      const Vec18 q = gather(m, x, t, fl);
+      Jac6x18 J;
+      const Strain6 s = shell_strain(q, rest[t], fl, &J);
+      if (timings) tm.strain += since(t0);
+      const MaterialEval me = psi(s);
+      if (timings) tm.material += since(t0);
+      const double A = rest[t].area;
+      E += A * me.psi;
+      const Vec18 ge = A * (J.transpose() * me.grad);
+      for (int i = 0; i < 3; ++i) {
+        g.segment<3>(3 * m.tris(t, i)) += ge.segment<3>(3 * i);
+        if (fl[i]) g.segment<3>(3 * m.flaps(t, i)) += ge.segment<3>(9 + 3 * i);
+      }
+      if (!hess) continue;
+      Mat18 H;
+      shell_strain(q, rest[t], fl, nullptr, &me.grad, &H);
+      H += J.transpose() * me.hess * J;
+      H *= A;
+      if (timings) tm.chain += since(t0);
+      const bool changed = project && project_psd(H);
+      if (timings) {
+        tm.project += since(t0);
+        tm.projected += changed;
+      }
+      add_element_hessian(*pattern, t, H, hv);
+      if (timings) tm.scatter += since(t0);
+    }
+  }
+  for (int k = 0; k < nthreads - 1; ++k) {
+    grad += g_local[k];
+    if (hess)
+      for (size_t i = 0; i < nnz; ++i) values[i] += h_local[k][i];
+  }
+  if (timings) {
+    for (const ShellTimings& tm : tim) {
+      timings->strain += tm.strain;
+      timings->material += tm.material;
+      timings->chain += tm.chain;
+      timings->project += tm.project;
+      timings->scatter += tm.scatter;
+      timings->projected += tm.projected;
+    }
+    timings->elements += m.num_triangles();
+  }
+  return E;
+}
+
+std::vector<Strain6> triangle_strains(const Mesh& m, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x) {
+  std::vector<Strain6> out(m.num_triangles());
+#pragma omp parallel for schedule(static) if (m.num_triangles() >= kParallelElements)
+  for (int t = 0; t < m.num_triangles(); ++t) {
+    bool fl[3];
+    out[t] = shell_strain(gather(m, x, t, fl), rest[t], fl);
+  }
+  return out;
+}
+
+}  // namespace yarnhom::sim

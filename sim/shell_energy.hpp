@@ -1,0 +1,39 @@
+#pragma once
+// The shell's elastic energy (spec section 10): E(x) = sum_T A_T Psi(s_T(x)), with its
+// gradient and its Hessian by the chain rule through s,
+//   dE/dq = A J^T g,   d2E/dq2 = A (J^T H J + sum_k g_k d2s_k/dq2),
+// (g, H) = (dPsi/ds, d2Psi/ds2) of the material at s_T, J = ds/dq (sim/shell_strain.hpp);
+// each element's 18x18 Hessian is projected to positive semi-definite before assembly.
+// Elements are evaluated in parallel (OpenMP); each thread accumulates into its own arrays.
+#include <vector>
+
+#include "sim/element_rest.hpp"
+#include "sim/hessian_pattern.hpp"
+#include "sim/material_fn.hpp"
+#include "sim/mesh.hpp"
+
+namespace yarnhom::sim {
+
+std::vector<ElementRest> make_element_rests(const Mesh& mesh);
+
+// CPU seconds summed over threads, for the --profile split.
+struct ShellTimings {
+  double strain = 0, material = 0, chain = 0, project = 0, scatter = 0;
+  long elements = 0, projected = 0;
+};
+
+// Value only (the line search's call). x: 3n, vertex-major.
+double shell_energy(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
+                    const Eigen::VectorXd& x);
+
+// Value; gradient added to grad (3n, all vertices); if pattern and values are given, the
+// element Hessians added to values (free vertices only), projected to PSD unless `project` is
+// false (tests compare the exact Hessian with finite differences).
+double shell_energy_derivatives(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
+                                const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
+                                double* values, ShellTimings* timings = nullptr, bool project = true);
+
+// Per-triangle strain at x (for output and tests).
+std::vector<Strain6> triangle_strains(const Mesh& mesh, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x);
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,240 @@
+#include "sim/simulation.hpp"
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/atomic_file.hpp"
+#include "sim/integrators.hpp"
+#include "sim/obj_io.hpp"
+#include "sim/potential.hpp"
+#include "sim/shell_energy.hpp"
+
+namespace yarnhom::sim {
+
+namespace fs = std::filesystem;
+
+void affine_predictor(const std::vector<int>& prescribed, const Eigen::VectorXd& from_in, const Eigen::VectorXd& to,
+                      Eigen::VectorXd& x) {
+  if (prescribed.empty()) return;
+  const Eigen::VectorXd from = from_in;  // x may be from_in
+  Eigen::Vector3d pm = Eigen::Vector3d::Zero(), qm = Eigen::Vector3d::Zero();
+  for (int v : prescribed) {
+    pm += from.segment<3>(3 * v);
+    qm += to.segment<3>(3 * v);
+  }
+  pm /= double(prescribed.size());
+  qm /= double(prescribed.size());
+  Eigen::Matrix3d PP = Eigen::Matrix3d::Zero(), QP = Eigen::Matrix3d::Zero();
+  for (int v : prescribed) {
+    const Eigen::Vector3d p = from.segment<3>(3 * v) - pm, q = to.segment<3>(3 * v) - qm;
+    PP += p * p.transpose();
+    QP += q * p.transpose();
+  }
+  const double eps = 1e-8 * (PP.trace() + 1e-300);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d A = (QP + eps * I) * (PP + eps * I).inverse();
+  const Eigen::Vector3d b = qm - A * pm;
+  std::vector<char> fixed(from.size() / 3, 0);
+  for (int v : prescribed) fixed[v] = 1;
+  for (size_t v = 0; v < fixed.size(); ++v)
+    if (!fixed[v]) x.segment<3>(3 * v) = A * from.segment<3>(3 * v) + b;
+}
+
+std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x) {
+  const std::vector<Strain6> s = triangle_strains(P.mesh, P.rest, x);
+  for (size_t t = 0; t < s.size(); ++t) {
+    const Strain6& e = s[t];
+    const double r = std::hypot(0.5 * (e[3] - e[5]), e[4]), m = 0.5 * std::abs(e[3] + e[5]);
+    if (std::abs(e[0]) > 5 || std::abs(e[2]) > 5 || std::abs(e[1]) > 0.999 || m + r > 1e4 || !e.allFinite()) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "triangle %zu reached s = (%.4g, %.4g, %.4g, %.4g, %.4g, %.4g), beyond any physical strain, where the "
+                    "material's energy is %.6g J/m^2: the material probably decreases outside its box in that direction "
+                    "(check the terms with `yarnhom eval`)",
+                    t, e[0], e[1], e[2], e[3], e[4], e[5], P.material(e).psi);
+      return std::string(buf);
+    }
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string frame_path(const std::string& dir, int frame) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "frame_%04d.obj", frame);
+  return (fs::path(dir) / "frames" / buf).string();
+}
+
+void write_stretch_csv(const std::string& path, const std::vector<StretchRow>& rows, const char* dpsi_name) {
+  AtomicOutput out(path);
+  FILE* f = std::fopen(out.temp_path().c_str(), "w");
+  if (!f) throw std::runtime_error(path + ": cannot write");
+  std::fprintf(f, "stretch,force_N,force_per_width_N_per_m,middle_s_x,middle_s_a,middle_s_y,middle_II_x,middle_II_a,middle_II_y,middle_%s_N_per_m\n",
+               dpsi_name);
+  for (const StretchRow& r : rows) {
+    std::fprintf(f, "%.6f,%.9g,%.9g", r.stretch, r.force, r.force_per_width);
+    for (int k = 0; k < 6; ++k) std::fprintf(f, ",%.9g", r.middle_strain[k]);
+    std::fprintf(f, ",%.9g\n", r.middle_dpsi);
+  }
+  if (std::fclose(f) != 0) throw std::runtime_error(path + ": write failed");
+  out.commit();
+}
+
+}  // namespace
+
+SimResult run_simulation(const Scene& scene, const MaterialFn& material, double density, const SimSettings& set,
+                         const FrameCallback& on_frame) {
+  const bool dynamic = scene.integrator != Integrator::Static;
+  if (!(density >= 0) || !std::isfinite(density)) throw std::invalid_argument("areal density must be >= 0");
+  if (dynamic && !(density > 0))
+    throw std::invalid_argument("a dynamic simulation needs a positive areal density (kg/m^2)");
+  if (scene.gravity.norm() > 0 && !(density > 0))
+    throw std::invalid_argument("gravity needs a positive areal density (kg/m^2)");
+  Problem P = make_problem(scene.mesh, material, density);
+  P.gravity = scene.gravity;
+  P.colliders = scene.colliders;
+  P.dhat = scene.dhat;
+  const double weight = density * scene.gravity.norm();
+  P.kappa = scene.kappa > 0 ? scene.kappa : (weight > 0 ? 100 * weight : 1.0);
+  P.rayleigh_alpha = scene.rayleigh_alpha;
+  P.rayleigh_beta = scene.rayleigh_beta;
+  P.air_drag = scene.air_drag;
+  const std::vector<int> prescribed = prescribed_vertices(scene.handles);
+  const DofMap D = make_dof_map(P.mesh.num_vertices(), prescribed);
+  const HessianPattern pat = make_hessian_pattern(P.mesh, D);
+  LinearSolver solver(set.solver);
+
+  const Eigen::VectorXd x0 = flatten(P.mesh.x);
+  // Vertices must start outside the colliders.
+  for (int v = 0; v < P.mesh.num_vertices(); ++v)
+    for (size_t c = 0; c < P.colliders.size(); ++c)
+      if (!(collider_distance(P.colliders[c], x0.segment<3>(3 * v)) > 0))
+        throw std::invalid_argument("vertex " + std::to_string(v) + " starts inside collider " + std::to_string(c));
+  SimResult R;
+  R.kappa = P.kappa;
+  R.x = x0;
+  R.v = Eigen::VectorXd::Zero(x0.size());
+  const std::string& dir = set.out_dir;
+  FILE* csv = nullptr;
+  if (!dir.empty()) {
+    fs::create_directories(fs::path(dir) / "frames");
+    csv = std::fopen((fs::path(dir) / "steps.csv").c_str(), "w");
+    if (!csv) throw std::runtime_error(dir + "/steps.csv: cannot write");
+    std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
+                      "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
+                      "assemble_ms,solve_ms,line_search_ms\n");
+    if (set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
+  }
+  const int stretch_index = std::abs(scene.stretch.axis.y()) > std::abs(scene.stretch.axis.x()) ? 2 : 0;
+  const int middle = scene.stretch.enabled ? triangle_at(P.mesh, scene.stretch.middle) : -1;
+  auto stretch_row = [&](const Eigen::VectorXd& x, double t) {
+    StretchRow row;
+    const Handle& h = scene.handles.at(scene.stretch.moving_handle);
+    row.stretch = 1 + handle_offset(h, t).dot(scene.stretch.axis) / scene.stretch.length;
+    const Eigen::VectorXd g = potential_energy_gradient(P, x);
+    for (int v : h.vertices) row.force += g.segment<3>(3 * v).dot(scene.stretch.axis);
+    row.force_per_width = row.force / scene.stretch.width;
+    row.middle_strain = triangle_strains(P.mesh, P.rest, x)[middle];
+    row.middle_dpsi = material(row.middle_strain).grad[stretch_index];
+    return row;
+  };
+  if (scene.stretch.enabled) {
+    R.stretch.push_back(stretch_row(R.x, 0.0));
+    if (!dir.empty()) write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
+  }
+  const double h = scene.dt / scene.substeps;
+  NewtonSettings nopt = scene.newton;
+  if (!(nopt.tol_step > 0)) {
+    // IPC's: a velocity error of 1e-2 rest diagonals per second; statics: 1e-8 diagonals.
+    const double diag = (P.mesh.rest.colwise().maxCoeff() - P.mesh.rest.colwise().minCoeff()).norm();
+    nopt.tol_step = dynamic ? 1e-2 * diag * h : 1e-8 * diag;
+  }
+  R.tol_step = nopt.tol_step;
+  int step = 0;
+  Eigen::VectorXd& x = R.x;
+  Eigen::VectorXd& v = R.v;
+  for (int frame = 1; frame <= scene.frames; ++frame) {
+    const int nsub = dynamic ? scene.substeps : 1;
+    for (int k = 0; k < nsub; ++k) {
+      ++step;
+      StepRecord rec;
+      rec.step = step;
+      rec.frame = frame;
+      const auto t0 = Clock::now();
+      StepStats st;
+      if (dynamic) {
+        rec.time = step * h;
+        const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
+        st = scene.integrator == Integrator::Newton ? implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile)
+                                                    : linearized_step(P, D, pat, solver, x, v, target, h, set.profile);
+      } else {
+        rec.time = double(frame) / scene.frames;
+        const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
+        affine_predictor(prescribed, x, target, x);
+        st = static_solve(P, D, pat, solver, x, target, nopt, set.profile);
+      }
+      rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
+      rec.iterations = st.newton.iterations;
+      rec.converged = st.newton.converged;
+      rec.backtracks = st.newton.backtracks;
+      rec.finite = st.finite;
+      rec.t_strain = st.newton.shell.strain;
+      rec.t_material = st.newton.shell.material;
+      rec.t_chain = st.newton.shell.chain;
+      rec.t_project = st.newton.shell.project;
+      rec.t_scatter = st.newton.shell.scatter;
+      rec.projected = st.newton.shell.projected;
+      rec.elements = st.newton.shell.elements;
+      rec.t_assemble = st.newton.t_assemble;
+      rec.t_solve = st.newton.t_solve;
+      rec.t_line_search = st.newton.t_line_search;
+      if (st.finite) {
+        StepState none;
+        none.dynamic = false;
+        rec.potential = potential_value(P, D, none, x);
+        double kin = 0, vmax = 0;
+        for (int i = 0; i < P.mesh.num_vertices(); ++i) {
+          const double s2 = v.segment<3>(3 * i).squaredNorm();
+          kin += 0.5 * P.mass[i] * s2;
+          vmax = std::max(vmax, std::sqrt(s2));
+        }
+        rec.kinetic = kin;
+        rec.max_speed = vmax;
+      }
+      R.finite = R.finite && st.finite && std::isfinite(rec.potential);
+      if (R.finite)
+        if (auto why = unphysical_strain(P, x)) R.diverged = *why;
+      R.all_converged = R.all_converged && rec.converged;
+      R.steps.push_back(rec);
+      if (csv) {
+        std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f\n", rec.step,
+                     rec.frame, rec.time, rec.iterations, int(rec.converged), rec.backtracks, rec.potential, rec.kinetic,
+                     rec.max_speed, 1e3 * rec.wall, 1e3 * rec.t_strain, 1e3 * rec.t_material, 1e3 * rec.t_chain,
+                     1e3 * rec.t_project, 1e3 * rec.t_scatter, rec.projected, 1e3 * rec.t_assemble, 1e3 * rec.t_solve,
+                     1e3 * rec.t_line_search);
+        std::fflush(csv);
+      }
+      if (!R.finite || !R.diverged.empty()) break;
+    }
+    if (!R.finite || !R.diverged.empty()) break;
+    R.frames_done = frame;
+    if (scene.stretch.enabled) {
+      R.stretch.push_back(stretch_row(x, double(frame) / scene.frames));
+      if (!dir.empty())
+        write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
+    }
+    if (!dir.empty() && set.write_frames) write_obj(frame_path(dir, frame), P.mesh, unflatten(x));
+    if (on_frame) on_frame(frame, R);
+  }
+  if (csv) std::fclose(csv);
+  return R;
+}
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,83 @@
+#pragma once
+// Runs a scene: the time loop (or the quasi-static load steps), the outputs and the figures.
+//
+// Writes into the output folder, each file complete or not at all (written under a temporary
+// name, then renamed), so an interrupted run keeps every finished frame:
+//   frames/frame_NNNN.obj   positions of frame NNNN (texture coordinates = rest positions)
+//   steps.csv               one row per step: Newton iterations, energies, speed, wall time
+//                           and, with profiling, the time split (docs/sim.md lists the columns)
+//   stretch.csv             stretch scenes: force per clamp width against stretch
+// Frame 0 is the initial state. In a static run frame k is load step k (load parameter k/frames).
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/linear_solver.hpp"
+#include "sim/problem.hpp"
+#include "sim/material_fn.hpp"
+#include "sim/scene.hpp"
+
+namespace yarnhom::sim {
+
+struct SimSettings {
+  std::string out_dir;           // "" = write nothing
+  SolverKind solver = SolverKind::Auto;
+  bool profile = false;          // time split per step (adds clock reads per element)
+  bool write_frames = true;
+};
+
+struct StepRecord {
+  int step = 0, frame = 0;
+  double time = 0;               // s (static: load parameter)
+  int iterations = 0;            // Newton iterations (linearized: 1)
+  bool converged = true, finite = true;
+  int backtracks = 0;
+  double potential = 0;          // E_shell + gravity + colliders, J
+  double kinetic = 0, max_speed = 0;
+  double wall = 0;               // s
+  double t_strain = 0, t_material = 0, t_chain = 0, t_project = 0, t_scatter = 0;  // CPU s in the element loop
+  double t_assemble = 0, t_solve = 0, t_line_search = 0;                         // wall s
+  long projected = 0, elements = 0;
+};
+
+struct StretchRow {
+  double stretch = 1;            // current length / rest length
+  double force = 0;              // reaction of the moving clamp along the axis, N
+  double force_per_width = 0;    // N/m (over the undeformed width)
+  Strain6 middle_strain = Strain6::Zero();
+  double middle_dpsi = 0;        // dPsi/ds along the axis at the middle's strain, N/m
+};
+
+struct SimResult {
+  bool finite = true;            // no non-finite value anywhere
+  std::string diverged;          // non-empty: why the run was stopped (a triangle left every physical strain)
+  bool all_converged = true;
+  int frames_done = 0;
+  std::vector<StepRecord> steps;
+  std::vector<StretchRow> stretch;
+  Eigen::VectorXd x, v;          // final state, 3n
+  double kappa = 0;              // the barrier stiffness used
+  double tol_step = 0;           // the Newton tolerance used, m
+};
+
+// Called after every frame with the frame number and the steps so far.
+using FrameCallback = std::function<void(int frame, const SimResult&)>;
+
+// areal_density in kg/m^2 (0 allowed only without gravity and for static runs).
+SimResult run_simulation(const Scene& scene, const MaterialFn& material, double areal_density,
+                         const SimSettings& settings, const FrameCallback& on_frame = nullptr);
+
+// The first triangle (if any) whose strain is beyond anything cloth survives: |s_x| or |s_y| > 5,
+// |s_a| > 0.999 (the yarn directions within 2.6 degrees), or a curvature above 1e4 /m (a radius
+// of 0.1 mm). A material whose energy decreases outside its box (a trained model whose boundary
+// curvature is negative, extended by the safeguard) lets the solver run there; this names it.
+std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x);
+
+// The affine map that best carries the prescribed vertices from `from` to `to` (least squares,
+// regularized towards the identity where they do not determine it), applied to the free
+// vertices: the predictor of a quasi-static load step.
+void affine_predictor(const std::vector<int>& prescribed, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
+                      Eigen::VectorXd& x);
+
+}  // namespace yarnhom::sim
