@@ -177,7 +177,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         f << ",N_" << m.name << ",dN_" << m.name << ",hausdorff_cm_" << m.name << ",hausdorff_points_cm_" << m.name
           << ",hausdorff_surface_cm_" << m.name;
       f << "\n";
-      char buf[64];
+      char buf[160];
       for (size_t k = 0; k < r.stretch.size(); ++k) {
         std::snprintf(buf, sizeof buf, "%.4f,%.6g", r.stretch[k], r.n_yarn[k]);
         f << buf;

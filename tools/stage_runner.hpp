@@ -23,7 +23,7 @@ struct StageSpec {
   std::string name;               // also the log and record name
   std::vector<std::string> args;  // subcommand and its arguments
   std::vector<std::string> inputs, outputs;
-  std::string stdout_file;        // when set, the command's stdout goes there (stderr to the log)
+  std::string stdout_file = {};   // when set, the command's stdout goes there (stderr to the log)
 };
 
 struct StageOutcome {

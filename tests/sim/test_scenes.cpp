@@ -13,8 +13,11 @@ using namespace yarnhom::sim;
 
 namespace {
 
+// The box reaches s = -0.5 so that the strip's lateral contraction (to s = -0.2 at 170 %) stays
+// clear of the layer where bake repairs the Poisson coupling 3 s_x s_y, which falls outward
+// along -s_y.
 const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms());
+  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
   return m;
 }
 

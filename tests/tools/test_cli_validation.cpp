@@ -154,20 +154,20 @@ TEST(Validation, InvalidOptionsAreRefusedNamingThem) {
   TempDir d("val");
   const auto f = yarnhom::test::write_small_files(d);
   const std::string train = "train-all " + f.dataset + " -o " + d / "m.h5 --epochs 1 -q ";
-  for (const std::string& o : {"--threads -1", "--lr -1", "--lr 0", "--lr nan", "--w-s -100", "--w-c inf",
+  for (const std::string o : {"--threads -1", "--lr -1", "--lr 0", "--lr nan", "--w-s -100", "--w-c inf",
                                "--terms ''", "--hidden 0,4", "--stencil-eps 0", "--off-domain -1"})
     expect_refused(train + o, {o.substr(0, o.find(' '))});
   const std::string produce = "produce stockinette -o " + d / "ds.h5 --terms 0 ";
-  for (const std::string& o : {"--threads -3", "--sectors 0", "--sectors -1", "--terms ''", "--preset huge"})
+  for (const std::string o : {"--threads -3", "--sectors 0", "--sectors -1", "--terms ''", "--preset huge"})
     expect_refused(produce + o, {o.substr(0, o.find(' '))});
   std::ofstream(d / "ranges.txt") << "0 -0.1 0.5\nx y z\n";
   expect_refused(produce + "--ranges " + d / "ranges.txt", {d / "ranges.txt", "line 2"});
   std::ofstream(d / "ranges4.txt") << "4 -1 1\n";
   expect_refused(produce + "--ranges " + d / "ranges4.txt", {d / "ranges4.txt", "line 1"});
-  for (const std::string& o : {"--epochs -1", "--threads -1"})
+  for (const std::string o : {"--epochs -1", "--threads -1"})
     expect_refused("pipeline synthetic -o " + d / "run " + o, {o.substr(0, o.find(' '))});
   EXPECT_FALSE(fs::exists(d / "run"));
-  for (const std::string& o : {"--tolerance -1", "--tolerance 0", "--tolerance nan", "--max-iterations 0"})
+  for (const std::string o : {"--tolerance -1", "--tolerance 0", "--tolerance nan", "--max-iterations 0"})
     expect_refused("rve stockinette " + o, {o.substr(0, o.find(' '))});
   expect_refused("error " + f.model + " --samples 0", {"--samples"});
   expect_refused("eval " + f.model + " --term 04 --at 0.1", {"--term", "unknown term"});

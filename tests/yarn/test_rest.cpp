@@ -75,7 +75,7 @@ void expect_stress_free(const Pattern& p) {
 }  // namespace
 
 TEST(Rest, InPlaneMapAndItsStrainAreInverse) {
-  for (const Eigen::Vector3d s : {Eigen::Vector3d(0.1, -0.3, 0.2), Eigen::Vector3d(-0.15, 0.6, -0.05)}) {
+  for (const Eigen::Vector3d& s : {Eigen::Vector3d(0.1, -0.3, 0.2), Eigen::Vector3d(-0.15, 0.6, -0.05)}) {
     const Eigen::Matrix2d F = in_plane_map(s);
     EXPECT_LT((in_plane_strain(F) - s).norm(), 1e-14);
     // F^T F is the first fundamental form of docs/rve.md section 2.

@@ -87,7 +87,11 @@ void check_warm_and_cold(const Pattern& p, const std::string& preset) {
   std::printf("  %s, preset %s: %d nodes, %d with a second (certified) minimum; closest centrelines warm %.3f, cold %.3f x 2r\n",
               p.name.c_str(), preset.c_str(), nodes, second, rw.min_separation / (2 * p.radius),
               rc.min_separation / (2 * p.radius));
-  EXPECT_LT(second, nodes / 4) << "warm and cold mostly agree";
+  // Measured on stocktiny at the quick preset: 10 of 102 nodes with the yarnhom-2025 constants,
+  // 36 of 102 with the calibrated default (contact 10x stiffer relative to the yarn: more
+  // sliding states), every one certified and within a few percent of the warm energy. A bound
+  // that catches a solver gone astray, not a target.
+  EXPECT_LT(second, nodes / 2) << "warm and cold mostly agree";
 }
 
 }  // namespace
