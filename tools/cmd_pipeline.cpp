@@ -45,6 +45,7 @@ void register_pipeline(CLI::App& app) {
     std::string pattern, run, preset = "quick", backend = "cpu", recipe = "default";
     int threads = 0, epochs = 0;
     bool force = false;
+    bool no_plot = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* parent = &app;
@@ -70,6 +71,7 @@ void register_pipeline(CLI::App& app) {
       ->check(CLI::IsMember({"default", "paper", "improved"}))
       ->capture_default_str();
   cmd->add_flag("--force", o->force, "Rerun every stage");
+  cmd->add_flag("--no-plot", o->no_plot, "Skip the plot stage (no PNGs; the metrics are in errors.txt)");
   cmd->callback([o, parent] {
     const auto t_all = std::chrono::steady_clock::now();
     const fs::path run(o->run);
@@ -108,7 +110,7 @@ void register_pipeline(CLI::App& app) {
     stages.push_back({"train-all", train, {ds}, {model}});
     stages.push_back({"bake", {"bake", model, "-o", baked, "--data", ds}, {model, ds}, {baked}});
     stages.push_back({"error", {"error", baked, "--model", model, "--data", ds, "--csv", errors_csv}, {baked, model, ds}, {errors, errors_csv}});
-    stages.push_back({"plot", {"plot", o->run}, {baked, model, ds}, {plots}});
+    if (!o->no_plot) stages.push_back({"plot", {"plot", o->run}, {baked, model, ds}, {plots}});
 
     std::printf("pipeline %s -> %s (preset %s, backend %s)\n", o->pattern.c_str(), o->run.c_str(), o->preset.c_str(),
                 o->backend.c_str());
@@ -197,7 +199,8 @@ void register_pipeline(CLI::App& app) {
                 "deviation %.2e of a term's range\n", E.c_str(), worst);
     for (const auto& [name, secs] : times) std::printf("  %s: %s\n", name.c_str(), format_seconds(secs).c_str());
     std::printf("  total %s\n", format_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_all).count()).c_str());
-    std::printf("  metrics: %s\n  pictures: %s\n", errors.c_str(), (run / "plots").string().c_str());
+    std::printf("  metrics: %s\n", errors.c_str());
+    if (!o->no_plot) std::printf("  pictures: %s\n", (run / "plots").string().c_str());
   });
 }
 

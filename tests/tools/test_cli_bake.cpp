@@ -69,16 +69,16 @@ TEST(CliBake, BakedFileReproducesTheModelAndErrorReportsIt) {
 
 TEST(CliBake, PipelineRunsOnceAndSkipsFinishedStages) {
   const std::string d = tmpdir("pipeline");
-  auto r = run("pipeline synthetic -o " + d + "/run --epochs 3 --recipe paper");
+  auto r = run("pipeline synthetic -o " + d + "/run --epochs 3 --recipe paper --no-plot");
   ASSERT_EQ(r.status, 0) << r.out;
   for (const char* f : {"dataset.h5", "model.h5", "baked.h5", "errors.txt"})
     EXPECT_TRUE(fs::exists(d + "/run/" + f)) << f;
   const auto t = fs::last_write_time(d + "/run/model.h5");
-  r = run("pipeline synthetic -o " + d + "/run --epochs 3 --recipe paper");
+  r = run("pipeline synthetic -o " + d + "/run --epochs 3 --recipe paper --no-plot");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_EQ(fs::last_write_time(d + "/run/model.h5"), t) << "train-all must not rerun";
   // A changed setting reruns training.
-  r = run("pipeline synthetic -o " + d + "/run --epochs 4 --recipe paper");
+  r = run("pipeline synthetic -o " + d + "/run --epochs 4 --recipe paper --no-plot");
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_NE(fs::last_write_time(d + "/run/model.h5"), t);
   fs::remove_all(d);
