@@ -115,7 +115,14 @@ void run(const ProduceOpts& o) {
               ds.lattice_relaxed[2], ds.lattice_relaxed[3], ds.areal_density);
   std::printf("at rest     dPsi/ds %.3g %.3g %.3g (in-plane), dPsi/dII %.6g %.6g %.6g J/m (natural bending moment)\n",
               ds.grad0[0], ds.grad0[1], ds.grad0[2], ds.grad0[3], ds.grad0[4], ds.grad0[5]);
-  if (rep.resumed) std::printf("resumed     %d samples from %s\n", rep.resumed, opt.checkpoint.c_str());
+  if (rep.resumed)
+    std::printf("resumed     %d samples with their equilibrium states from %s%s\n", rep.resumed, opt.checkpoint.c_str(),
+                rep.checkpoint_dropped_bytes ? (" (its last record, cut by the kill: " + std::to_string(rep.checkpoint_dropped_bytes) +
+                                                " bytes, removed and solved again)").c_str()
+                                             : "");
+  if (!rep.checkpoint_error.empty())
+    std::fprintf(stderr, "yarnhom: warning: the checkpoint stopped being written (%s); the dataset is complete, but a "
+                 "run killed then would have started over\n", rep.checkpoint_error.c_str());
   std::printf("%-5s %6s %7s %10s %9s %9s\n", "term", "nodes", "failed", "mean iter", "solve s", "cpu s");
   for (const auto& t : rep.terms)
     std::printf("%-5s %6d %7d %10.1f %9.2f %9.2f\n", t.name.c_str(), t.nodes, t.failed, t.mean_iterations, t.seconds,
@@ -149,8 +156,8 @@ void register_produce(CLI::App& app) {
       "produce",
       "Produce the training dataset of a yarn pattern: Psi(s) and dPsi/ds of the periodic yarn RVE "
       "on every term's node grid (spec sections 3-5), solved sector by sector with warm starts "
-      "(supplement Algorithm 1). Finished samples go to OUT.partial as they complete: the same "
-      "command resumes a killed run. Exit status 3 when some nodes did not converge (listed).");
+      "(supplement Algorithm 1). Finished samples go to OUT.partial as they complete, with their "
+      "equilibrium states: the same command resumes a killed run to the uninterrupted run's dataset, bit for bit. Exit status 3 when some nodes did not converge (listed).");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("-o,--out", o->out, "Dataset file to write (HDF5)")->required();
   cmd->add_option("--preset", o->preset, "quick (21 points / 9 x 9), paper (101 / 31 x 31) or tiny (5 / 3 x 3, for tests)")

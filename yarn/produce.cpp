@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "yarn/energy_density.hpp"
+#include "yarn/produce_checkpoint.hpp"
 
 namespace yarnhom::yarn {
 
@@ -48,15 +49,22 @@ struct Node {
   int iterations = 0;
   double seconds = 0, cpu_seconds = 0;
   double min_separation = std::numeric_limits<double>::infinity();  // certificate's closest distance (m)
+  // Resumed: its record in the checkpoint (-1: none), whose state (converged nodes of warm
+  // started runs) is read back when a child still to be solved starts from it.
+  int record = -1;
+  bool state_needed = false;
 };
 
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   std::ostringstream f;
   f.precision(17);
   // "contact=barrier-ccd": samples of runs before the collision filter and certificate are not
-  // resumed (they may hold states with yarns passed through each other).
+  // resumed (they may hold states with yarns passed through each other). The sectors and the
+  // warm-start mode decide which state each node starts from: a resumed run must share them.
   f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance
-    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd";
+    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd"
+    << " sectors=" << std::max(1, opt.sectors)
+    << " start=" << (!opt.warm_start ? "cold" : opt.predictor ? "warm+predictor" : "warm");
   for (const auto& t : opt.terms) f << " " << t.name;
   for (int i = 0; i < 6; ++i) {
     const Range r = pattern_range(p.name, i, opt.ranges);
@@ -122,50 +130,39 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     }
   }
 
-  // Resume: samples finished by an earlier run of the same command.
+  // Resume: samples finished by an earlier run of the same command, with the states they ended
+  // in (yarn/produce_checkpoint.hpp), so that the run goes on exactly as if never stopped.
   const std::string fp = fingerprint(pattern, opt);
-  if (!opt.checkpoint.empty()) {
-    std::ifstream in(opt.checkpoint);
-    std::string line;
-    if (in && std::getline(in, line)) {
-      if (line != "yarnhom-produce-checkpoint 2 " + fp)
-        throw FileError(opt.checkpoint, "line 1",
-                        "checkpoint of a different run (pattern, preset, terms, ranges or material differ); "
-                        "remove it to start over");
-      while (std::getline(in, line)) {
-        std::istringstream ls(line);
-        int term, index, iterations;
-        double seconds, psi;
-        std::string status, end;
-        Strain g;
-        if (!(ls >> term >> index >> status >> iterations >> seconds >> psi >> g[0] >> g[1] >> g[2] >> g[3] >> g[4] >> g[5] >> end) ||
-            end != "." || term < 0 || term >= int(opt.terms.size()) || index < 0 ||
-            index >= int(term_nodes_idx[term].size()))
-          continue;  // a line cut by a kill: that sample is simply solved again
-        Node& n = nodes[term_nodes_idx[term][index]];
-        if (n.done || status != "converged") continue;  // failures are tried again
-        n.done = n.resumed = true;
-        n.status = status;
-        n.iterations = iterations;
-        n.seconds = seconds;
-        n.psi = psi;
-        n.grad = g;
-        ++rep.resumed;
-      }
-    }
-  }
+  const std::string rest_sig = rest_signature(r0.psi, rest);
   std::FILE* ck = nullptr;
+  CheckpointContents cc;
   if (!opt.checkpoint.empty()) {
-    const bool fresh = rep.resumed == 0;
-    if (fresh) {
-      ck = std::fopen(opt.checkpoint.c_str(), "w");
-      if (ck) std::fprintf(ck, "yarnhom-produce-checkpoint 2 %s\n", fp.c_str());
-    } else {
-      ck = std::fopen(opt.checkpoint.c_str(), "a");
+    cc = read_checkpoint(opt.checkpoint, fp, rest_sig, rest);
+    for (size_t k = 0; k < cc.records.size(); ++k) {
+      const CheckpointRecord& rec = cc.records[k];
+      if (rec.term < 0 || rec.term >= int(opt.terms.size()) || rec.index < 0 ||
+          rec.index >= int(term_nodes_idx[rec.term].size()))
+        throw FileError(opt.checkpoint, "", "a record of node " + std::to_string(rec.index) + " of term " +
+                                                std::to_string(rec.term) + ", which this run does not have; remove it to start over");
+      Node& n = nodes[term_nodes_idx[rec.term][rec.index]];
+      if (n.done || rec.status != "converged") continue;  // failures are tried again
+      if (opt.warm_start && !rec.has_state)
+        throw FileError(opt.checkpoint, "", "a converged sample without its state in a warm-started run; remove it to start over");
+      n.done = n.resumed = true;
+      n.status = rec.status;
+      n.iterations = rec.iterations;
+      n.seconds = rec.seconds;
+      n.cpu_seconds = rec.cpu_seconds;
+      n.psi = rec.psi;
+      n.grad = rec.grad;
+      n.record = static_cast<int>(k);
+      n.min_separation = rec.min_distance;
+      ++rep.resumed;
     }
-    if (!ck) throw FileError(opt.checkpoint, "", "cannot open the checkpoint for writing");
-    std::fflush(ck);
+    rep.checkpoint_dropped_bytes = cc.dropped_bytes;
+    ck = open_checkpoint(opt.checkpoint, fp, rest_sig, &cc);
   }
+  std::string checkpoint_error;
 
   // Per strain axis: the normalization of term coordinates (the box's larger half-width) and
   // the strain per unit normalized coordinate; at rest, the equilibrium's sensitivity along
@@ -211,6 +208,15 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       tasks.push_back(std::move(by_sector[k]));
     }
   }
+  // A resumed node's state is read back only if a child of it is still to be solved.
+  for (const Task& task : tasks)
+    for (size_t li = 0; li < task.nodes.size(); ++li) {
+      const int parent = task.plan.parent[li];
+      if (parent >= 0 && !nodes[task.nodes[li]].done) {
+        Node& pn = nodes[task.nodes[parent]];
+        pn.state_needed = pn.record >= 0 && cc.records[pn.record].has_state;
+      }
+    }
   int total = 0, done = 0, failed = 0;
   for (const auto& n : nodes) {
     ++total;
@@ -230,7 +236,25 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     for (int li : task.plan.order) {
       Node& n = nodes[task.nodes[li]];
       const int parent = task.plan.parent[li];
-      if (n.done) continue;  // resumed: its children start from the rest state (same minimum)
+      if (n.done && n.state_needed) {
+        // Resumed, with a child still to solve: that child starts from the very state this
+        // node ended in, as it would have without the kill.
+        CheckpointRecord rec = cc.records[n.record];
+        try {
+          read_checkpoint_state(opt.checkpoint, rest, rec);
+          states[li] = std::move(rec.state);
+          if (!rec.sensitivity.empty()) sens[li] = std::move(rec.sensitivity);
+        } catch (const std::exception& e) {
+          // Solving it again from its parent's state gives the same bits (the solves are
+          // deterministic); only time is lost.
+          std::lock_guard<std::mutex> lock(mu);
+          if (checkpoint_error.empty()) checkpoint_error = e.what();
+          n.done = n.resumed = false;
+          --done;
+          --rep.resumed;
+        }
+      }
+      if (n.done) continue;
       RveState st = rest;
       if (opt.warm_start && (parent < 0 || states.count(parent))) {
         // Eq. 2-3: the parent's solution as it is (see docs/produce.md); then, our addition,
@@ -315,15 +339,36 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       if (!ok && refused) ++rep.refused;
       if (!ok) ++failed;
       if (ck) {
-        std::fprintf(ck, "%d %d %s %d %.17g %.17g", n.term, n.index, n.status.c_str(), n.iterations, n.seconds, n.psi);
-        for (int k = 0; k < 6; ++k) std::fprintf(ck, " %.17g", n.grad[k]);
-        std::fprintf(ck, " .\n");
-        std::fflush(ck);
+        CheckpointRecord rec;
+        rec.term = n.term;
+        rec.index = n.index;
+        rec.iterations = n.iterations;
+        rec.seconds = n.seconds;
+        rec.cpu_seconds = n.cpu_seconds;
+        rec.status = n.status;
+        rec.psi = n.psi;
+        rec.grad = n.grad;
+        rec.min_distance = n.min_separation;
+        // Copied into the record only while it is written (one at a time, under the lock).
+        if (ok && opt.warm_start) {
+          rec.has_state = true;
+          rec.state = states[li];
+          if (sens.count(li)) rec.sensitivity = sens[li];
+        }
+        try {
+          append_checkpoint(ck, opt.checkpoint, rec, rest);
+        } catch (const std::exception& e) {
+          // The work goes on (the dataset is what matters); only resuming is lost.
+          checkpoint_error = e.what();
+          std::fclose(ck);
+          ck = nullptr;
+        }
       }
       if (opt.progress) opt.progress(done, total, failed, elapsed());
     }
   }
   if (ck) std::fclose(ck);
+  rep.checkpoint_error = checkpoint_error;
 
   // Assemble the dataset (spec section 3 targets).
   Dataset ds;

@@ -2,6 +2,7 @@
 // The yarn RVE data producer (issue 4, spec sections 3-5): Psi(s) and dPsi/ds on each term's
 // node grid, solved sector by sector in the order of supplement Algorithm 1 with warm starts,
 // checkpointed as samples finish, assembled into the dataset that train-all reads.
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <map>
@@ -32,7 +33,8 @@ struct ProduceOptions {
   // Wall-clock guard of the rest relaxation (s; 0: none). Node solves have none: a time limit
   // there would make the dataset depend on the machine's load.
   double rest_time_limit = 300;
-  std::string checkpoint;                // sidecar file of finished samples ("" = none)
+  std::string checkpoint;                // sidecar file of finished samples and their states
+                                         // (yarn/produce_checkpoint.hpp; "" = none)
   // Called (from one thread at a time) after each finished node.
   std::function<void(int done, int total, int failed, double elapsed)> progress;
 };
@@ -65,6 +67,8 @@ struct ProduceReport {
   // the nodes solved in this run (rest state included); +inf if none.
   double min_separation = std::numeric_limits<double>::infinity();
   int resumed = 0;                 // samples read back from the checkpoint
+  std::uintmax_t checkpoint_dropped_bytes = 0;  // a record cut by the kill, removed (solved again)
+  std::string checkpoint_error;    // why the checkpoint stopped being written ("" = it was not)
   double seconds = 0;              // wall time of this run
   double solve_seconds = 0;        // sum of the node solves' wall times
   double solve_cpu_seconds = 0;    // and CPU times (this run only; resumed samples excluded)
