@@ -3,11 +3,18 @@
 #include <chrono>
 #include <cmath>
 
+#include "sim/hinge_angles.hpp"
+
 namespace yarnhom::sim {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+// The branches for a step that starts at x: the carried angles brought to x, or (-pi, pi].
+std::vector<double> step_branches(const Mesh& m, const Eigen::VectorXd& x, const std::vector<double>* hinges) {
+  return hinge_angles(m, x, hinges && !hinges->empty() ? hinges : nullptr);
+}
 }  // namespace
 
 void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x) {
@@ -17,9 +24,10 @@ void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::Vector
 
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                              const NewtonSettings& opt, bool profile) {
+                              const NewtonSettings& opt, bool profile, std::vector<double>* hinges) {
   StepState S;
   S.dynamic = true;
+  S.theta_ref = step_branches(P.mesh, x, hinges);
   S.h = h;
   S.x_prev = x;
   S.x_tilde = x + h * v;
@@ -35,6 +43,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   apply_targets(D, target, xn);
   StepStats out;
   out.newton = newton_minimize(P, D, pat, solver, S, xn, opt, profile);
+  if (hinges) *hinges = hinge_angles(P.mesh, xn, &S.theta_ref);
   v = (xn - x) / h;
   x = xn;
   out.finite = x.allFinite() && v.allFinite();
@@ -43,7 +52,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
 
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          bool profile) {
+                          bool profile, std::vector<double>* hinges) {
   StepStats out;
   auto t0 = Clock::now();
   // Prescribed vertices move first; their velocity over the step is known.
@@ -55,8 +64,9 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
   Eigen::SparseMatrix<double> K = pat.matrix;
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   Eigen::VectorXd grad = Eigen::VectorXd::Zero(x.size());
+  const std::vector<double> ref = step_branches(P.mesh, xs, hinges);
   shell_energy_derivatives(P.mesh, P.rest, P.material, xs, grad, &pat, K.valuePtr(),
-                           profile ? &out.newton.shell : nullptr);
+                           profile ? &out.newton.shell : nullptr, true, ref.data());
   const int F = D.num_free();
   Eigen::VectorXd vf(3 * F), rhs(3 * F);
   const Eigen::MatrixX3d normals = P.air_drag > 0 ? vertex_normals(P.mesh, xs) : Eigen::MatrixX3d();
@@ -110,18 +120,22 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
       ++out.projected_vertices;
     }
   }
+  if (hinges) *hinges = hinge_angles(P.mesh, xs, &ref);
   x = xs;
   out.finite = x.allFinite() && v.allFinite();
   return out;
 }
 
 StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
-                       Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt, bool profile) {
+                       Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt, bool profile,
+                       std::vector<double>* hinges) {
   StepState S;
   S.dynamic = false;
   apply_targets(D, target, x);
+  S.theta_ref = step_branches(P.mesh, x, hinges);
   StepStats out;
   out.newton = newton_minimize(P, D, pat, solver, S, x, opt, profile);
+  if (hinges) *hinges = hinge_angles(P.mesh, x, &S.theta_ref);
   out.finite = x.allFinite();
   return out;
 }

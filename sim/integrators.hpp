@@ -16,6 +16,8 @@
 // static_solve: equilibrium of E_shell + gravity + colliders by the same Newton method.
 #include "sim/newton.hpp"
 
+#include <vector>
+
 namespace yarnhom::sim {
 
 struct StepStats {
@@ -25,18 +27,20 @@ struct StepStats {
 };
 
 // x, v: 3n. target: 3n positions of the prescribed vertices at the end of the step (other
-// entries ignored).
+// entries ignored). hinges (optional): the dihedral angles at x on their continuous branch
+// (sim/hinge_angles.hpp), updated to the step's end; without it each step starts from
+// (-pi, pi] at x (still continuous within the step).
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                              const NewtonSettings& opt, bool profile = false);
+                              const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr);
 
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          bool profile = false);
+                          bool profile = false, std::vector<double>* hinges = nullptr);
 
 StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                        Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt,
-                       bool profile = false);
+                       bool profile = false, std::vector<double>* hinges = nullptr);
 
 // Sets the prescribed vertices of x to target.
 void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x);

@@ -96,7 +96,7 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
 }  // namespace
 
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x) {
-  double E = shell_energy(P.mesh, P.rest, P.material, x);
+  double E = shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
   for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
 }
@@ -104,7 +104,8 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings) {
   grad.setZero(x.size());
-  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings);
+  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, true,
+                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data());
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;
     Eigen::Matrix3d H;

@@ -30,6 +30,7 @@ struct StepState {
   Eigen::MatrixX3d normals; // [n] unit vertex normals at x_n (air drag)
   Eigen::SparseMatrix<double> K_prev;  // lower triangle over the free unknowns (the pattern's),
                                        // projected elastic Hessian at x_n (beta damping)
+  std::vector<double> theta_ref;  // 3 per triangle: the dihedral angles' branches (sim/hinge_angles.hpp); empty: (-pi, pi]
 };
 
 // Unit area-weighted vertex normals.

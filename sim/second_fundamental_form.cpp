@@ -2,12 +2,13 @@
 
 #include "sim/dihedral_angle.hpp"
 #include "sim/edge_height.hpp"
+#include "sim/hinge_angles.hpp"
 
 namespace yarnhom::sim {
 
 Eigen::Vector3d second_fundamental_form(const Vec18& q, const Eigen::Matrix3d& Q, const bool has_flap[3],
                                         Eigen::Matrix<double, 3, 18>* J, const Eigen::Vector3d* lambda,
-                                        Mat18* H) {
+                                        Mat18* H, const double* theta_ref) {
   using Eigen::Vector3d;
   const bool derivs = J || (H && lambda);
   Eigen::Vector3d II = Eigen::Vector3d::Zero();
@@ -18,7 +19,9 @@ Eigen::Vector3d second_fundamental_form(const Vec18& q, const Eigen::Matrix3d& Q
     const int a = i, b = (i + 1) % 3, c = (i + 2) % 3;
     const Vector3d f = q.segment<3>(9 + 3 * i);
     if (!derivs) {
-      II += dihedral_angle(x[a], x[b], x[c], f) * edge_height(x[0], x[1], x[2], i) * Q.col(i);
+      double theta = dihedral_angle(x[a], x[b], x[c], f);
+      if (theta_ref) theta = unwrap_angle(theta, theta_ref[i]);
+      II += theta * edge_height(x[0], x[1], x[2], i) * Q.col(i);
       continue;
     }
     Vec12 gt;
@@ -26,7 +29,8 @@ Eigen::Vector3d second_fundamental_form(const Vec18& q, const Eigen::Matrix3d& Q
     Vec9 gh;
     Mat9 Hh;
     const bool hess = H && lambda;
-    const double theta = dihedral_angle(x[a], x[b], x[c], f, &gt, hess ? &Ht : nullptr);
+    double theta = dihedral_angle(x[a], x[b], x[c], f, &gt, hess ? &Ht : nullptr);
+    if (theta_ref) theta = unwrap_angle(theta, theta_ref[i]);  // a constant shift: same derivatives
     const double h = edge_height(x[0], x[1], x[2], i, &gh, hess ? &Hh : nullptr);
     II += theta * h * Q.col(i);
     // Element slots of theta's four vertices and of h's three.

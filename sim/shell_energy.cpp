@@ -43,13 +43,14 @@ std::vector<ElementRest> make_element_rests(const Mesh& m) {
   return r;
 }
 
-double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi, const Eigen::VectorXd& x) {
+double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi, const Eigen::VectorXd& x,
+                    const double* theta_ref) {
   double E = 0;
 #pragma omp parallel for reduction(+ : E) schedule(static) if (m.num_triangles() >= kParallelElements)
   for (int t = 0; t < m.num_triangles(); ++t) {
     bool fl[3];
     const Vec18 q = gather(m, x, t, fl);
-    const Strain6 s = shell_strain(q, rest[t], fl);
+    const Strain6 s = shell_strain(q, rest[t], fl, nullptr, nullptr, nullptr, theta_ref ? theta_ref + 3 * t : nullptr);
     E += rest[t].area * psi(s).psi;
   }
   return E;
@@ -57,7 +58,7 @@ double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const M
 
 double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
-                                double* values, ShellTimings* timings, bool project) {
+                                double* values, ShellTimings* timings, bool project, const double* theta_ref) {
   const bool hess = pattern && values;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
   const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
@@ -78,7 +79,8 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       bool fl[3];
       const Vec18 q = gather(m, x, t, fl);
       Jac6x18 J;
-      const Strain6 s = shell_strain(q, rest[t], fl, &J);
+      const double* ref = theta_ref ? theta_ref + 3 * t : nullptr;
+      const Strain6 s = shell_strain(q, rest[t], fl, &J, nullptr, nullptr, ref);
       if (timings) tm.strain += since(t0);
       const MaterialEval me = psi(s);
       if (timings) tm.material += since(t0);
@@ -91,7 +93,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       }
       if (!hess) continue;
       Mat18 H;
-      shell_strain(q, rest[t], fl, nullptr, &me.grad, &H);
+      shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
       H += J.transpose() * me.hess * J;
       H *= A;
       if (timings) tm.chain += since(t0);
@@ -123,12 +125,13 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
   return E;
 }
 
-std::vector<Strain6> triangle_strains(const Mesh& m, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x) {
+std::vector<Strain6> triangle_strains(const Mesh& m, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x,
+                                      const double* theta_ref) {
   std::vector<Strain6> out(m.num_triangles());
 #pragma omp parallel for schedule(static) if (m.num_triangles() >= kParallelElements)
   for (int t = 0; t < m.num_triangles(); ++t) {
     bool fl[3];
-    out[t] = shell_strain(gather(m, x, t, fl), rest[t], fl);
+    out[t] = shell_strain(gather(m, x, t, fl), rest[t], fl, nullptr, nullptr, nullptr, theta_ref ? theta_ref + 3 * t : nullptr);
   }
   return out;
 }

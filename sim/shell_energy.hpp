@@ -22,18 +22,23 @@ struct ShellTimings {
   long elements = 0, projected = 0;
 };
 
+// theta_ref (optional, everywhere below): 3 per triangle, the branches of its dihedral angles
+// (sim/hinge_angles.hpp); null: every angle in (-pi, pi].
+
 // Value only (the line search's call). x: 3n, vertex-major.
 double shell_energy(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
-                    const Eigen::VectorXd& x);
+                    const Eigen::VectorXd& x, const double* theta_ref = nullptr);
 
 // Value; gradient added to grad (3n, all vertices); if pattern and values are given, the
 // element Hessians added to values (free vertices only), projected to PSD unless `project` is
 // false (tests compare the exact Hessian with finite differences).
 double shell_energy_derivatives(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
-                                double* values, ShellTimings* timings = nullptr, bool project = true);
+                                double* values, ShellTimings* timings = nullptr, bool project = true,
+                                const double* theta_ref = nullptr);
 
 // Per-triangle strain at x (for output and tests).
-std::vector<Strain6> triangle_strains(const Mesh& mesh, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x);
+std::vector<Strain6> triangle_strains(const Mesh& mesh, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x,
+                                      const double* theta_ref = nullptr);
 
 }  // namespace yarnhom::sim

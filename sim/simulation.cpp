@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.hpp"
+#include "sim/hinge_angles.hpp"
 #include "sim/integrators.hpp"
 #include "sim/obj_io.hpp"
 #include "sim/potential.hpp"
@@ -44,8 +45,8 @@ void affine_predictor(const std::vector<int>& prescribed, const Eigen::VectorXd&
     if (!fixed[v]) x.segment<3>(3 * v) = A * from.segment<3>(3 * v) + b;
 }
 
-std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x) {
-  const std::vector<Strain6> s = triangle_strains(P.mesh, P.rest, x);
+std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x, const std::vector<double>* hinges) {
+  const std::vector<Strain6> s = triangle_strains(P.mesh, P.rest, x, hinges && !hinges->empty() ? hinges->data() : nullptr);
   for (size_t t = 0; t < s.size(); ++t) {
     const Strain6& e = s[t];
     const double r = std::hypot(0.5 * (e[3] - e[5]), e[4]), m = 0.5 * std::abs(e[3] + e[5]);
@@ -132,6 +133,8 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
                       "assemble_ms,solve_ms,line_search_ms\n");
     if (set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
   }
+  // The hinges' dihedral angles on their continuous branch, carried from step to step.
+  std::vector<double> hinges = hinge_angles(P.mesh, x0);
   const int stretch_index = std::abs(scene.stretch.axis.y()) > std::abs(scene.stretch.axis.x()) ? 2 : 0;
   const int middle = scene.stretch.enabled ? triangle_at(P.mesh, scene.stretch.middle) : -1;
   auto stretch_row = [&](const Eigen::VectorXd& x, double t) {
@@ -141,7 +144,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     const Eigen::VectorXd g = potential_energy_gradient(P, x);
     for (int v : h.vertices) row.force += g.segment<3>(3 * v).dot(scene.stretch.axis);
     row.force_per_width = row.force / scene.stretch.width;
-    row.middle_strain = triangle_strains(P.mesh, P.rest, x)[middle];
+    row.middle_strain = triangle_strains(P.mesh, P.rest, x, hinges.data())[middle];
     row.middle_dpsi = material(row.middle_strain).grad[stretch_index];
     return row;
   };
@@ -172,13 +175,13 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       if (dynamic) {
         rec.time = step * h;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
-        st = scene.integrator == Integrator::Newton ? implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile)
-                                                    : linearized_step(P, D, pat, solver, x, v, target, h, set.profile);
+        st = scene.integrator == Integrator::Newton ? implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges)
+                                                    : linearized_step(P, D, pat, solver, x, v, target, h, set.profile, &hinges);
       } else {
         rec.time = double(frame) / scene.frames;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
         affine_predictor(prescribed, x, target, x);
-        st = static_solve(P, D, pat, solver, x, target, nopt, set.profile);
+        st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges);
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
       rec.iterations = st.newton.iterations;
@@ -210,7 +213,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       }
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)
-        if (auto why = unphysical_strain(P, x)) R.diverged = *why;
+        if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
       R.all_converged = R.all_converged && rec.converged;
       R.steps.push_back(rec);
       if (csv) {

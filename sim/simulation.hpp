@@ -72,7 +72,9 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
 // |s_a| > 0.999 (the yarn directions within 2.6 degrees), or a curvature above 1e4 /m (a radius
 // of 0.1 mm). A material whose energy decreases outside its box (a trained model whose boundary
 // curvature is negative, extended by the safeguard) lets the solver run there; this names it.
-std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x);
+// hinges: the dihedral angles' branches (sim/hinge_angles.hpp), or null for (-pi, pi].
+std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::VectorXd& x,
+                                             const std::vector<double>* hinges = nullptr);
 
 // The affine map that best carries the prescribed vertices from `from` to `to` (least squares,
 // regularized towards the identity where they do not determine it), applied to the free

@@ -6,7 +6,10 @@
 #
 #   bash tools/study_sim_stability.sh DATASET.h5 OUT_DIR [RESOLUTION] [SECONDS] [DENSITY]
 #
-# DATASET: produced (or synthetic) data; both models are trained from it with the same seed.
+# DATASET: produced (or synthetic) data; both models are trained from it with the same seed and
+# the same recipe, RECIPE in the environment (default: paper, the paper's 500 Adam epochs with
+# L_C and no polish; the default recipe's L-BFGS polish runs without L_C for both models and so
+# blurs the comparison).
 # A run counts as stable when it finishes SECONDS (default 1) of simulated time with every value
 # finite, no triangle beyond physical strain (yarnhom sim's exit status 0) and no vertex faster
 # than 5 m/s (a drop of 5 cm reaches 1 m/s). Steps tried: 1/30, 1/60, 1/120, ... down to 1/7680 s.
@@ -17,6 +20,7 @@ res=${3:-20}
 secs=${4:-1}
 density=${5:-}
 y=${YARNHOM:-build/tools/yarnhom}
+recipe=${RECIPE:-paper}
 mkdir -p "$out"
 dens=()
 [ -n "$density" ] && dens=(--density "$density")
@@ -25,7 +29,10 @@ echo "model,integrator,dt_s,frames,status,max_speed_m_per_s,mean_newton_iteratio
 for wc in 1e-3 0; do
   m="$out/model_wc$wc.h5"
   b="$out/baked_wc$wc.h5"
-  [ -f "$b" ] || { "$y" train-all "$data" -o "$m" --w-c "$wc" -q > "$out/train_wc$wc.log"; "$y" bake "$m" -o "$b" > /dev/null; }
+  if [ ! -f "$b" ]; then
+    "$y" train-all "$data" -o "$m" --recipe "$recipe" --w-c "$wc" -q > "$out/train_wc$wc.log"
+    "$y" bake "$m" -o "$b" --data "$data" > "$out/bake_wc$wc.log"
+  fi
   run() {  # integrator dt frames
     local dir="$out/wc${wc}_$1_$2"
     local t0=$(date +%s.%N)

@@ -10,6 +10,7 @@
 #include "sim/dihedral_angle.hpp"
 #include "sim/edge_height.hpp"
 #include "sim/element_rest.hpp"
+#include "sim/hinge_angles.hpp"
 #include "sim/inplane_strain.hpp"
 #include "sim/shell_strain.hpp"
 #include "tests/sim/fd_util.hpp"
@@ -167,4 +168,36 @@ TEST(ShellStrain, JacobianAndHessiansMatchFiniteDifferences) {
       EXPECT_EQ(J.bottomRows<3>().cwiseAbs().maxCoeff(), 0.0);
     }
   }
+}
+
+// A flap folded past pi: atan2's angle jumps from +pi to -pi and the bending strain with it;
+// on the branch carried from the previous position (sim/hinge_angles.hpp) it keeps growing,
+// with the same derivatives.
+TEST(HingeAngles, FoldPastPiStaysOnTheCarriedBranch) {
+  EXPECT_NEAR(unwrap_angle(-3.1, 3.0), 2 * M_PI - 3.1, 1e-15);
+  EXPECT_NEAR(unwrap_angle(0.2, 0.1), 0.2, 1e-15);
+  EXPECT_NEAR(unwrap_angle(3.1, -3.0), 3.1 - 2 * M_PI, 1e-15);
+  const double L = 0.01;
+  const ElementRest rest = element_rest({0, 0}, {L, 0}, {0, L});
+  const bool fl[3] = {true, false, false};
+  auto element = [&](double phi) {  // flap across edge 0 (the x axis) folded up by phi
+    Vec18 q = Vec18::Zero();
+    q.segment<3>(3) = Vector3d(L, 0, 0);
+    q.segment<3>(6) = Vector3d(0, L, 0);
+    q.segment<3>(9) = Vector3d(0.5 * L, -L * std::cos(phi), L * std::sin(phi));
+    return q;
+  };
+  const double before = M_PI - 0.01, after = M_PI + 0.01;
+  const Strain6 s0 = shell_strain(element(before), rest, fl);
+  const Strain6 s_jump = shell_strain(element(after), rest, fl);
+  EXPECT_LT(s_jump[5], 0);  // the principal branch flips the curvature's sign
+  const double ref[3] = {before, 0, 0};
+  Jac6x18 J;
+  const Strain6 s1 = shell_strain(element(after), rest, fl, &J, nullptr, nullptr, ref);
+  EXPECT_GT(s1[5], s0[5]);  // the carried branch keeps bending further
+  EXPECT_NEAR(s1[5] / s0[5], after / before, 1e-12);  // II_y = theta h Q: linear in theta here
+  // Its derivatives are those of the carried branch (theta dh uses the unwrapped theta).
+  auto f = [&](const VectorXd& y) { return VectorXd(shell_strain(y, rest, fl, nullptr, nullptr, nullptr, ref)); };
+  const MatrixXd Jfd = fd_jacobian(f, element(after), 1e-8);
+  EXPECT_LT(rel_err(J, Jfd), 1e-6);
 }
