@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -104,6 +105,24 @@ TEST(CliSim, StretchReportsForcePerClampWidthAsCsvAndPng) {
     EXPECT_TRUE(fs::exists(d + "/out/stretch.png"));
     EXPECT_TRUE(fs::exists(d + "/out/renders/frame_0014.png"));
   }
+  // What `yarnhom accuracy` reads (tools/cmd_accuracy.cpp): with --frames N, a `stretch` and a
+  // `force_per_width_N_per_m` column with the ratios 1 + 0.7 k/N, and exactly N + 1 OBJ files
+  // in frames/, one per row, in name order.
+  r = run("sim stretch -o " + d + "/few --material " + d + "/mat.json --resolution 2 --frames 7 --render none -q");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream csv(d + "/few/stretch.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("stretch,force_N,force_per_width_N_per_m,", 0), 0u) << header;
+  const auto few = read_csv(d + "/few/stretch.csv");
+  ASSERT_EQ(few.size(), 8u);
+  for (size_t k = 0; k < few.size(); ++k) EXPECT_NEAR(few[k][0], 1 + 0.1 * k, 1e-9);
+  std::vector<std::string> objs;
+  for (const auto& e : fs::directory_iterator(d + "/few/frames")) objs.push_back(e.path().filename().string());
+  std::sort(objs.begin(), objs.end());
+  ASSERT_EQ(objs.size(), 8u);
+  EXPECT_EQ(objs.front(), "frame_0000.obj");
+  EXPECT_EQ(objs.back(), "frame_0007.obj");
   fs::remove_all(d);
 }
 
