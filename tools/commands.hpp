@@ -26,12 +26,13 @@ void register_study_accuracy(CLI::App& app);  // tools/cmd_study.cpp: study tabl
 void register_study_architectures(CLI::App& app);  // tools/cmd_study_architectures.cpp: study architectures
 void register_sim(CLI::App& app);       // tools/cmd_sim.cpp
 void register_export_hylc(CLI::App& app);  // tools/cmd_export_hylc.cpp
+void register_strip(CLI::App& app);     // tools/cmd_strip.cpp
 
 inline std::vector<void (*)(CLI::App&)> command_registry() {
   return {register_synth,       register_train,        register_eval,         register_bake,
           register_error,       register_plot,         register_pipeline,     register_rve,
           register_produce,     register_sim,          register_export_hylc,  register_fit_splines,
-          register_accuracy,    register_study_accuracy, register_study_architectures};
+          register_accuracy,    register_study_accuracy, register_study_architectures, register_strip};
 }
 
 }  // namespace yarnhom::tools

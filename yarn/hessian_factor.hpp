@@ -2,8 +2,10 @@
 // The Newton system's matrix H (symmetric, assembled from lower-triangle triplets) and the
 // Cholesky factorization of H + mu diag(|H_ii|) that each Newton iteration solves with.
 //
-// Dense (Eigen's blocked LLT) up to kDenseLimit unknowns, sparse (SimplicialLDLT, symbolic
-// analysis reused while the pattern stays) beyond. Why dense: contact couples segments across
+// Dense (Eigen's blocked LLT) up to kDenseLimit unknowns, sparse beyond: CHOLMOD's supernodal
+// Cholesky (through Eigen's CholmodSupport; fill-reducing ordering and symbolic analysis
+// redone only when the sparsity pattern changes). Supernodal beats Eigen's SimplicialLDLT by
+// far once contact fills the factor in (a yarn strip: docs/benchmarks.md). Why dense: contact couples segments across
 // the whole tile, so the sparse factor fills in almost completely; measured on the paper's
 // patterns (396 to 1418 unknowns) the dense factorization is 1.5x to 2.6x faster than the
 // sparse one (stockinette 0.61 vs 1.11 ms, honeycomb 3.7 vs 9.2 ms, cartridge belt rib 23 vs
@@ -30,6 +32,8 @@ class HessianFactor {
 
   // H from lower-triangle triplets (row >= col; duplicates summed).
   void assemble(const std::vector<Eigen::Triplet<double>>& lower);
+  // H from its lower triangle, compressed (yarn/block_hessian.hpp assembles one directly).
+  void assemble(const Eigen::SparseMatrix<double>& lower);
   // Factors H + mu diag(|H_ii|) (the diagonal floored at 1e-300); false if that matrix is not
   // positive definite (or the factorization failed), true otherwise.
   bool factor(double mu);
@@ -39,6 +43,7 @@ class HessianFactor {
   int analyses() const { return analyses_; }
 
  private:
+  void analyze_if_new();  // sparse path: symbolic analysis when the pattern changed
   struct Impl;
   int n_;
   bool dense_;

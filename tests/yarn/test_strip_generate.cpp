@@ -1,0 +1,354 @@
+// Strip generation (yarn/strip_generate.hpp): one continuous yarn, every vertex of the tiling
+// inside the strip kept, the interior exactly the periodic tile's equilibrium (forward and
+// backward rows alike), boundary yarn with 1/200 of the moduli and stress-free at its initial
+// shape, nothing intersecting at rest; and the building blocks: hash grid, segment distance,
+// step filter, block Hessian.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <random>
+#include <set>
+
+#include "tests/yarn/test_support.hpp"
+#include "yarn/generate.hpp"
+#include "yarn/hash_grid.hpp"
+#include "yarn/relax.hpp"
+#include "yarn/strip_generate.hpp"
+#include "yarn/strip_io.hpp"
+#include "yarn/strip_stretch.hpp"
+
+using namespace yarnhom::yarn;
+using yarnhom::yarn::testing::shared_pattern;
+
+namespace {
+
+Pattern tiny_knit() {
+  if (yarnhom::yarn::testing::have_shared_patterns()) return read_pyp(shared_pattern("stocktiny"));
+  return generate_stockinette({});
+}
+
+// The relaxed tile a strip is made of (relaxed once per pattern and cached: relaxing is the
+// slow part of these tests).
+const Pattern& relaxed(const std::string& name) {
+  static std::map<std::string, Pattern> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) {
+    SolveOptions o;
+    o.tolerance = 1e-12;
+    const Pattern p = name == "knit" ? tiny_knit() : builtin_pattern(name);
+    it = cache.emplace(name, relax_pattern(p, Material{}, nullptr, o)).first;
+  }
+  return it->second;
+}
+
+Strip small_strip(const std::string& pattern, StripAxis axis, double tiles_across = 3.2, double tiles_along = 4.5) {
+  const Pattern& p = relaxed(pattern);
+  StripSpec spec;
+  spec.axis = axis;
+  const double ex = (axis == StripAxis::kCourse ? tiles_along : tiles_across) * p.px;
+  const double ey = (axis == StripAxis::kCourse ? tiles_across : tiles_along) * p.py;
+  spec.length = axis == StripAxis::kCourse ? ex : ey;
+  spec.width = axis == StripAxis::kCourse ? ey : ex;
+  return generate_strip(p, spec);
+}
+
+std::string temp_dir(const std::string& name) {
+  const auto d = std::filesystem::temp_directory_path() / ("yarnhom_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(d);
+  return d.string();
+}
+
+}  // namespace
+
+TEST(HashGrid, FindsExactlyTheOverlappingPairs) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(0, 1), S(0.01, 0.15);
+  std::vector<Box3> boxes(400);
+  for (auto& b : boxes) {
+    b.lo = Eigen::Vector3d(U(rng), U(rng), 0.2 * U(rng));
+    b.hi = b.lo + Eigen::Vector3d(S(rng), S(rng), S(rng));
+  }
+  boxes[7] = boxes[3];  // identical boxes overlap
+  std::vector<std::pair<int, int>> brute;
+  for (int i = 0; i < int(boxes.size()); ++i)
+    for (int j = i + 1; j < int(boxes.size()); ++j)
+      if (boxes[i].overlaps(boxes[j])) brute.emplace_back(i, j);
+  for (double cell : {0.0, 0.05, 0.3}) EXPECT_EQ(overlapping_pairs(boxes, cell), brute) << "cell " << cell;
+  EXPECT_GT(brute.size(), 100u);
+}
+
+TEST(SegmentDistance, MatchesDenseSampling) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int trial = 0; trial < 300; ++trial) {
+    Vec12 q;
+    for (int i = 0; i < 12; ++i) q[i] = U(rng);
+    if (trial % 3 == 0) q.segment<3>(9) = q.segment<3>(6) + 0.7 * (q.segment<3>(3) - q.segment<3>(0));  // parallel
+    if (trial % 7 == 0) q.segment<3>(3) = q.segment<3>(0);                                               // a point
+    double best = 1e300;
+    const int N = 400;
+    for (int i = 0; i <= N; ++i)
+      for (int j = 0; j <= N; j += 1) {
+        const double s = double(i) / N, t = double(j) / N;
+        const Eigen::Vector3d d = (1 - s) * q.segment<3>(0) + s * q.segment<3>(3) - (1 - t) * q.segment<3>(6) - t * q.segment<3>(9);
+        best = std::min(best, d.norm());
+      }
+    const double d = segment_distance(q);
+    EXPECT_LE(d, best + 1e-12) << "trial " << trial;
+    EXPECT_GE(d, best - 2e-2 * 2.0 / N * 10) << "trial " << trial;  // sampling resolution
+  }
+}
+
+TEST(StripContact, StepBoundKeepsSegmentsFromCrossing) {
+  // Segment b moves straight through segment a: the unfiltered step crosses, the filtered one
+  // stops short with at least a tenth of the distance left at every instant.
+  const StripContact c(1e-3, 1.0);
+  Vec12 q, dq = Vec12::Zero();
+  q << -1, 0, 0, 1, 0, 0, 0, -1, 0.5, 0, 1, 0.5;
+  dq.segment<3>(6) = dq.segment<3>(9) = Eigen::Vector3d(0, 0, -1);
+  const double t = c.step_bound(q, dq);
+  EXPECT_LT(t, 0.5);
+  for (int i = 0; i <= 100; ++i) {
+    const Vec12 qt = q + (t * i / 100.0) * dq;
+    EXPECT_GE(segment_distance(qt), 0.1 * 0.5 - 1e-12);
+  }
+  EXPECT_EQ(c.step_bound(q, Vec12::Zero()), 1.0);
+}
+
+TEST(BlockHessian, EqualsTripletAssembly) {
+  // Nodes with 4, 3, 1 and 0 unknowns; random dense elements over random node sets.
+  const std::vector<int> count = {4, 3, 1, 0, 4, 3, 4};
+  std::vector<int> first;
+  int n = 0;
+  for (int c : count) {
+    first.push_back(n);
+    n += c;
+  }
+  BlockHessian B(first, count, n);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  struct El {
+    int idx[8];
+    Eigen::Matrix<double, 8, 8> H;
+  };
+  std::vector<El> els;
+  std::vector<std::pair<int, int>> np;
+  for (int k = 0; k < 20; ++k) {
+    El e;
+    const int a = rng() % 7, b = rng() % 7;
+    for (int i = 0; i < 4; ++i) e.idx[i] = i < count[a] ? first[a] + i : -1;
+    for (int i = 0; i < 4; ++i) e.idx[4 + i] = i < count[b] ? first[b] + i : -1;
+    if (a == b)
+      for (int i = 4; i < 8; ++i) e.idx[i] = -1;
+    e.H = Eigen::Matrix<double, 8, 8>::NullaryExpr([&](int, int) { return U(rng); });
+    e.H = (e.H + e.H.transpose()).eval();
+    np.emplace_back(a, b);
+    els.push_back(e);
+  }
+  EXPECT_TRUE(B.set_pattern(np));
+  EXPECT_FALSE(B.set_pattern(np)) << "same pattern: nothing rebuilt";
+  std::vector<std::vector<double>> vals(2);
+  B.zero(vals[0]);
+  B.zero(vals[1]);
+  std::vector<Eigen::Triplet<double>> trip;
+  for (size_t k = 0; k < els.size(); ++k) {
+    B.add<8>(els[k].idx, els[k].H, vals[k % 2]);
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 8; ++j)
+        if (els[k].idx[i] >= 0 && els[k].idx[j] >= 0 && els[k].idx[i] >= els[k].idx[j])
+          trip.emplace_back(els[k].idx[i], els[k].idx[j], els[k].H(i, j));
+  }
+  B.gather(vals);
+  Eigen::SparseMatrix<double> T(n, n);
+  T.setFromTriplets(trip.begin(), trip.end());
+  EXPECT_LT((Eigen::MatrixXd(B.matrix()) - Eigen::MatrixXd(T)).norm(), 1e-12);
+  for (int c = 0; c < n; ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(B.matrix(), c); it; ++it) EXPECT_GE(it.row(), c);
+}
+
+TEST(StripGenerate, OneContinuousYarnWithTwoFreeEnds) {
+  // Graph check on the exported centrelines: every vertex has degree 1 or 2, exactly two have
+  // degree 1, one connected component, and no edge longer than the pattern's longest piece of
+  // boundary yarn would need (no invisible jump).
+  const std::string dir = temp_dir("strip_graph");
+  for (const std::string& pat : {std::string("knit"), std::string("plain")})
+    for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+      const Strip s = small_strip(pat, axis);
+      const std::string obj = dir + "/c.obj";
+      write_centrelines(obj, s, s.x);
+      const Polylines P = read_polylines(obj);
+      ASSERT_EQ(int(P.v.size()), s.size());
+      std::vector<std::set<int>> adj(P.v.size());
+      double longest = 0;
+      for (const auto& l : P.lines)
+        for (size_t k = 0; k + 1 < l.size(); ++k) {
+          adj[l[k]].insert(l[k + 1]);
+          adj[l[k + 1]].insert(l[k]);
+          longest = std::max(longest, (P.v[l[k]] - P.v[l[k + 1]]).norm());
+        }
+      int ends = 0;
+      for (const auto& a : adj) {
+        EXPECT_TRUE(a.size() == 1 || a.size() == 2);
+        ends += a.size() == 1;
+      }
+      EXPECT_EQ(ends, 2) << pat << " " << to_string(axis);
+      std::vector<int> seen(P.v.size(), 0), stack = {0};
+      seen[0] = 1;
+      int reached = 1;
+      while (!stack.empty()) {
+        const int v = stack.back();
+        stack.pop_back();
+        for (int w : adj[v])
+          if (!seen[w]) seen[w] = 1, ++reached, stack.push_back(w);
+      }
+      EXPECT_EQ(reached, s.size()) << "one connected yarn";
+      EXPECT_LT(longest, 3.0 * s.radius) << "no edge jumps";
+      if (pat == "plain") {
+        EXPECT_EQ(s.boundary_rows, 0) << "wovens are not bound off";
+        EXPECT_EQ(s.connectors + 1, s.rows) << "wefts and warps joined into one";
+      } else {
+        EXPECT_EQ(s.boundary_rows, 2);
+        EXPECT_EQ(s.connectors + 1, s.rows + 2);
+      }
+    }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(StripGenerate, KeepsEveryVertexOfTheTilingInsideTheStrip) {
+  // Independent of the generator: enumerate the tiling's vertices (pattern vertex v in cell
+  // (i, j) at x_v + (i px, j py)); each lies on one infinite row (its tile yarn's copy), whose
+  // centre line decides whether it is a row of the strip. Every vertex inside the strip's
+  // rectangle on a row of the strip must be in the strip, as itself; the strip's own pattern
+  // vertices must all be distinct.
+  for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+    const Pattern& p = relaxed("knit");
+    const Strip s = small_strip("knit", axis);
+    const Topology t = topology(p);
+    std::set<std::tuple<int, int, int>> in_strip;
+    for (const auto& src : s.source)
+      if (src.vertex >= 0) EXPECT_TRUE(in_strip.insert({src.vertex, src.cell_x, src.cell_y}).second) << "duplicate";
+    // Per pattern vertex: its cell offset from its yarn's first vertex, and the yarn's mean y.
+    std::vector<Eigen::Vector2i> off(p.size());
+    std::vector<double> centre(t.yarns.size(), 0);
+    for (size_t y = 0; y < t.yarns.size(); ++y) {
+      Eigen::Vector2i c = Eigen::Vector2i::Zero();
+      for (int v : t.yarns[y]) {
+        off[v] = c;
+        centre[y] += (p.x[v][1] + c[1] * p.py) / t.yarns[y].size();
+        c += t.offset[v];
+      }
+    }
+    const double hx = 0.5 * s.extent_x(), hy = 0.5 * s.extent_y();
+    int inside = 0;
+    for (int v = 0; v < p.size(); ++v)
+      for (int i = -20; i <= 20; ++i)
+        for (int j = -20; j <= 20; ++j) {
+          const Eigen::Vector3d x = p.x[v] + Eigen::Vector3d(i * p.px, j * p.py, 0);
+          if (std::abs(x[0]) > hx || std::abs(x[1]) > hy) continue;
+          const double row_centre = centre[t.yarn_of[v]] + (j - off[v][1]) * p.py;
+          if (std::abs(row_centre) > hy) continue;
+          ++inside;
+          EXPECT_TRUE(in_strip.count({v, i, j})) << "vertex " << v << " of cell (" << i << ", " << j << ") lost";
+        }
+    EXPECT_GT(inside, 100);
+    EXPECT_EQ(s.dropped_vertices, 0) << "stocktiny: the bind-off rows keep what reaches into the strip";
+  }
+}
+
+TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
+  // The tile is relaxed periodically, so far from the strip's edges every vertex of the strip
+  // must be in equilibrium already: the rest state of rows traversed backwards (theta ->
+  // -theta, k2 -> -k2) and of forward rows alike, contact across rows included.
+  for (const std::string& pat : {std::string("knit"), std::string("plain")}) {
+    const Strip s = small_strip(pat, StripAxis::kCourse, 7, 8);
+    const StripProblem P(s, Material{}, std::vector<signed char>(s.size(), 0));
+    const StripState st = P.initial_state();
+    std::vector<Eigen::Vector3d> vg;
+    Eigen::VectorXd g;
+    P.evaluate(st, &g, nullptr, nullptr, &vg);
+    const double EA = P.stretch_stiffness(), mx = 1.5 * relaxed(pat).px, my = 2.5 * relaxed(pat).py;
+    int checked = 0, backward = 0;
+    double worst = 0, edge = 0;
+    for (int v = 3; v + 3 < s.size(); ++v) {
+      bool yarn = true;
+      for (int k = -3; k <= 3; ++k) yarn = yarn && !s.connector_joint[v + k];
+      edge = std::max(edge, vg[v].norm() / EA);
+      if (!yarn || std::abs(s.x[v][0]) > 0.5 * s.extent_x() - mx || std::abs(s.x[v][1]) > 0.5 * s.extent_y() - my)
+        continue;
+      ++checked;
+      backward += s.source[v + 1].cell_x < s.source[v].cell_x;
+      worst = std::max({worst, vg[v].norm() / EA, std::abs(g[P.theta_index(v)]) / (EA * s.radius)});
+    }
+    EXPECT_GT(checked, 20) << pat;
+    EXPECT_GT(backward, 0) << pat << ": backward rows are checked too";
+    EXPECT_LT(worst, 1e-9) << pat;
+    EXPECT_GT(edge, 1e-4) << pat << ": the edges are not in equilibrium (the check can fail)";
+  }
+}
+
+TEST(StripGenerate, BoundaryYarnIsStressFreeWithOneTwoHundredthOfTheModuli) {
+  const Strip s = small_strip("knit", StripAxis::kCourse);
+  EXPECT_DOUBLE_EQ(s.connector_scale, 1.0 / 200);
+  // Exactly the edges between kept vertices of the strip's own rows are yarn.
+  int yarn = 0, boundary = 0;
+  for (int e = 0; e < s.num_edges(); ++e) (s.connector_edge[e] ? boundary : yarn)++;
+  EXPECT_GT(yarn, 0);
+  EXPECT_GT(boundary, 0);
+  for (int v = 1; v + 1 < s.size(); ++v)
+    EXPECT_EQ(s.connector_joint[v], s.connector_edge[v - 1] || s.connector_edge[v]) << v;
+  for (int v = 0; v < s.size(); ++v)
+    if (s.source[v].vertex < 0) {
+      if (v > 0) EXPECT_TRUE(s.connector_edge[v - 1]);
+      if (v < s.num_edges()) EXPECT_TRUE(s.connector_edge[v]);
+    }
+  // Stress-free: at its initial shape the boundary yarn stores no rod energy, whatever its
+  // moduli. Moduli: perturb the shape; with the boundary yarn switched off (scale ~0), at
+  // 1/200 and at full strength, the rod energy is affine in the scale with slope the
+  // boundary's energy: (E(1/200) - E(0)) / (E(1) - E(0)) = 1/200 checks that the scale
+  // reaches every boundary stretch, bend and twist term and no yarn term.
+  auto with_scale = [&](double k) {
+    Strip t = s;
+    t.connector_scale = k;
+    return t;
+  };
+  const std::vector<signed char> free(s.size(), 0);
+  const StripProblem Ps(s, Material{}, free), Pf(with_scale(1.0), Material{}, free), Pn(with_scale(1e-300), Material{}, free);
+  StripState st = Ps.initial_state();
+  auto rod = [&](const StripProblem& P) {
+    EnergyParts e;
+    P.evaluate(st, nullptr, nullptr, &e);
+    return e.stretch + e.bend + e.twist;
+  };
+  EXPECT_NEAR(rod(Pf), rod(Pn), 1e-12 * rod(Pn)) << "boundary yarn stores no rod energy at its initial shape";
+  std::mt19937 rng(2);
+  std::normal_distribution<double> N(0, 0.05 * s.radius);
+  for (auto& x : st.x) x += Eigen::Vector3d(N(rng), N(rng), N(rng));
+  for (auto& t : st.theta) t += N(rng) / s.radius;
+  const double Es = rod(Ps), Ef = rod(Pf), En = rod(Pn);
+  EXPECT_GT(Ef - En, 1e-3 * En);
+  EXPECT_NEAR((Es - En) / (Ef - En), 1.0 / 200, 1e-9);
+}
+
+TEST(StripGenerate, NothingIntersectsAtRest) {
+  // Certificate: no two segments that may touch are closer than half the contact distance
+  // (the tile's own contacts sit near 0.84 of it, pressed by the penalty).
+  for (const std::string& pat : {std::string("knit"), std::string("plain"), std::string("basket")})
+    for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+      const Strip s = small_strip(pat, axis);
+      const StripProblem P(s, Material{}, std::vector<signed char>(s.size(), 0));
+      const double d = P.min_distance(P.initial_state());
+      EXPECT_GT(d, 0.5) << pat << " " << to_string(axis);
+      EXPECT_LT(d, 1.0) << pat << ": yarns are in contact (the check can fail)";
+    }
+}
+
+TEST(StripGenerate, RefusesWhatItCannotBuild) {
+  StripSpec spec;
+  spec.width = 1e-4;
+  spec.length = 1e-2;
+  EXPECT_THROW(generate_strip(relaxed("knit"), spec), std::invalid_argument);  // no row inside
+  spec.width = 1e-2;
+  spec.length = 1e-4;
+  EXPECT_THROW(generate_strip(relaxed("knit"), spec), std::invalid_argument);  // shorter than a loop
+}

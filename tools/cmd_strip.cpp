@@ -1,0 +1,308 @@
+// yarnhom strip PATTERN -o DIR: a yarn-level fabric strip tiled from a periodic pattern, joined
+// into one yarn, clamped at its short ends and stretched quasi-statically (docs/strip.md;
+// supplement section 4.2). Resumable per load step.
+//
+// DIR/settings.txt   what the run is (a rerun with other settings is refused)
+// DIR/strip.obj      the generated strip's centrelines (OBJ polylines, m)
+// DIR/steps/step_KKK.h5        the equilibrium of load step K (what a resumed run continues from)
+// DIR/centrelines/step_KKK.obj its centrelines
+// DIR/force.csv      per load step: stretch, force per width (N/m), both clamps' forces, energy,
+//                    iterations, times, certificate
+// DIR/strip.png, deformed.png, force.png (when a python3 with matplotlib is found)
+#include <omp.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "tools/cli_util.hpp"
+#include "tools/commands.hpp"
+#include "yarn/generate.hpp"
+#include "yarn/relax.hpp"
+#include "yarn/strip_generate.hpp"
+#include "yarn/strip_io.hpp"
+
+namespace yarnhom::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct StripOpts {
+  std::string pattern, out, size = "0.05,0.10", direction = "course", stretch = "1.0:1.7:0.05", material;
+  double clamp = 0.005, connector_scale = 1.0 / 200, tolerance = 1e-10;
+  int max_iterations = 300, threads = 0;
+  bool no_bind_off = false, restart = false, no_plots = false, verbose = false;
+};
+
+yarn::Pattern load_pattern(const std::string& what) {
+  if (fs::exists(what)) return yarn::read_pyp(what);
+  if (yarn::is_builtin_pattern(what)) return yarn::builtin_pattern(what);
+  std::string names;
+  for (const auto& n : yarn::builtin_pattern_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("pattern '" + what + "' is neither a file nor a built-in pattern (" + names + ")");
+}
+
+// "a:b:c" -> 1.0 (always relaxed first), then a, a + c, ... up to b (inclusive), above 1.
+std::vector<double> parse_stretches(const std::string& text) {
+  const auto c1 = text.find(':'), c2 = text.rfind(':');
+  if (c1 == std::string::npos || c1 == c2)
+    throw std::invalid_argument("--stretch: expected FROM:TO:STEP (e.g. 1.0:1.7:0.05), got '" + text + "'");
+  const double a = parse_numbers(text.substr(0, c1), "--stretch")[0];
+  const double b = parse_numbers(text.substr(c1 + 1, c2 - c1 - 1), "--stretch")[0];
+  const double d = parse_numbers(text.substr(c2 + 1), "--stretch")[0];
+  if (!(a >= 1.0 && b >= a && d > 0))
+    throw std::invalid_argument("--stretch: need 1 <= FROM <= TO and STEP > 0 (stretch 1 = as generated), got '" + text + "'");
+  std::vector<double> s = {1.0};
+  for (int k = 0;; ++k) {
+    const double v = a + k * d;
+    if (v > b + 1e-9 * d) break;
+    if (v > 1.0 + 1e-12) s.push_back(std::round(v * 1e9) / 1e9);
+    if (k > 100000) throw std::invalid_argument("--stretch: more than 100000 load steps");
+  }
+  return s;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+void write_text(const fs::path& p, const std::string& text) {
+  AtomicOutput out(p.string());
+  {
+    std::ofstream f(out.temp_path());
+    f << text;
+    if (!f) throw FileError(p.string(), "", "write failed");
+  }
+  out.commit();
+}
+
+std::string step_name(int k) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "step_%03d", k);
+  return buf;
+}
+
+std::string csv_line(int k, const yarn::StretchStep& r) {
+  char buf[640];
+  std::snprintf(buf, sizeof buf,
+                "%d,%.9g,%.10g,%.10g,%.10g,%.10g,%.3e,%.12g,%.6g,%.6g,%.6g,%.6g,%d,%.3e,%.3f,%.3f,%.3f,%.4f,%s\n", k,
+                r.stretch, r.tension, r.force, r.force_low, r.force_high,
+                r.force != 0 ? (r.force_low + r.force_high) / std::abs(r.force) : 0.0, r.energy, r.parts.stretch,
+                r.parts.bend, r.parts.twist, r.parts.contact, r.solve.iterations, r.solve.residual, r.solve.seconds,
+                r.solve.assembly_seconds, r.solve.factor_seconds, r.min_distance, yarn::to_string(r.solve.status));
+  return buf;
+}
+
+void run(const StripOpts& o) {
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  const std::vector<double> size = parse_numbers(o.size, "--size");
+  if (size.size() != 2 || !(size[0] > 0 && size[1] > 0))
+    throw std::invalid_argument("--size: expected WIDTH,LENGTH in metres, both positive (e.g. 0.05,0.10)");
+  if (o.direction != "course" && o.direction != "wale")
+    throw std::invalid_argument("--direction: 'course' or 'wale', got '" + o.direction + "'");
+  const std::vector<double> stretches = parse_stretches(o.stretch);
+  const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::read_material(o.material);
+
+  yarn::StripSpec spec;
+  spec.width = size[0];
+  spec.length = size[1];
+  spec.axis = o.direction == "course" ? yarn::StripAxis::kCourse : yarn::StripAxis::kWale;
+  spec.connector_scale = o.connector_scale;
+  spec.bind_off = !o.no_bind_off;
+
+  // Settings: everything that changes the result except the list of load steps (a longer list
+  // extends a finished run). The pattern by its content (FNV-1a of its canonical text), so that
+  // the same file reached by another path resumes and an edited one does not.
+  const yarn::Pattern raw = load_pattern(o.pattern);
+  uint64_t digest = 1469598103934665603ull;
+  for (unsigned char c : yarn::format_pyp(raw)) digest = (digest ^ c) * 1099511628211ull;
+  std::ostringstream set;
+  set.precision(17);
+  set << "# yarnhom strip: a rerun with these settings resumes; other settings are refused\n"
+      << "pattern = " << raw.name << "\npattern_fnv1a = " << std::hex << digest << std::dec
+      << "\nwidth = " << spec.width << "\nlength = " << spec.length << "\ndirection = " << o.direction
+      << "\nclamp = " << o.clamp << "\nconnector_scale = " << spec.connector_scale
+      << "\nbind_off = " << (spec.bind_off ? "true" : "false") << "\ntolerance = " << o.tolerance << "\n"
+      << yarn::format_material(mat);
+  const std::string settings = set.str();
+  const fs::path dir(o.out);
+  if (o.restart && fs::exists(dir / "settings.txt")) {
+    fs::remove_all(dir / "steps");
+    fs::remove_all(dir / "centrelines");
+    fs::remove(dir / "force.csv");
+    fs::remove(dir / "settings.txt");
+  }
+  fs::create_directories(dir / "steps");
+  fs::create_directories(dir / "centrelines");
+  // Temporary files of a run that was killed while writing (AtomicOutput's "*.partial-PID").
+  for (const fs::path& sub : {dir, dir / "steps", dir / "centrelines"})
+    for (const auto& e : fs::directory_iterator(sub))
+      if (e.path().filename().string().find(".partial-") != std::string::npos) fs::remove(e.path());
+  if (fs::exists(dir / "settings.txt")) {
+    const std::string old = read_text(dir / "settings.txt");
+    if (old != settings) {
+      std::istringstream a(old), b(settings);
+      std::string la, lb;
+      while (std::getline(a, la) && std::getline(b, lb) && la == lb) {
+      }
+      throw std::invalid_argument(o.out + " holds a strip run with other settings ('" + la + "' there, '" + lb +
+                                  "' now): choose another -o, or pass --restart to discard it");
+    }
+  } else {
+    write_text(dir / "settings.txt", settings);
+  }
+
+  // The strip: the tile relaxed at rest (its stored rest state is the material's, its
+  // geometry not an equilibrium), tiled, cut, joined.
+  std::fprintf(stderr, "yarnhom strip: relaxing the tile of '%s' at rest\n", raw.name.c_str());
+  yarn::SolveReport rest;
+  const yarn::Pattern tile = yarn::relax_pattern(raw, mat, &rest);
+  yarn::Strip strip = yarn::generate_strip(tile, spec);
+  const std::vector<signed char> clamp = yarn::clamp_flags(strip, o.clamp);
+  const yarn::StripProblem P(strip, mat, clamp);
+  const yarn::StripStretch S(P, strip.long_axis(), strip.x);
+  yarn::write_centrelines((dir / "strip.obj").string(), strip, strip.x);
+  int nconn = 0, nclamped = 0;
+  for (auto c : strip.connector_edge) nconn += c;
+  for (auto c : clamp) nclamped += c != 0;
+  std::printf("strip       %s: %.4g x %.4g m (%s), %d x %d tiles of %.4g x %.4g m\n", strip.name.c_str(), strip.width,
+              strip.length, o.direction.c_str(), strip.tiles_x, strip.tiles_y, tile.px, tile.py);
+  std::printf("yarn        %d vertices (%d rows + %d bind-off rows, %d connectors, %d of %d edges boundary yarn at "
+              "%.4g of the moduli), %d clamped, %d unknowns\n",
+              strip.size(), strip.rows, strip.boundary_rows, strip.connectors, nconn, strip.num_edges(),
+              strip.connector_scale, nclamped, P.num_dofs());
+  std::fflush(stdout);
+
+  // Load steps: reuse the step files that match, compute the rest.
+  yarn::StripSolveOptions sopt;
+  sopt.tolerance = o.tolerance;
+  sopt.max_iterations = o.max_iterations;
+  sopt.verbose = o.verbose;
+  std::vector<yarn::StretchStep> done;
+  yarn::StripState st = P.initial_state();
+  double from = 1.0;
+  int computed = 0;
+  double compute_seconds = 0;
+  bool failed = false;
+  for (size_t k = 0; k < stretches.size(); ++k) {
+    const fs::path step_file = dir / "steps" / (step_name(int(k)) + ".h5");
+    if (fs::exists(step_file) && computed == 0) {
+      yarn::StripState loaded;
+      yarn::StretchStep r = yarn::read_step(step_file.string(), P, loaded);
+      if (std::abs(r.stretch - stretches[k]) < 1e-12 && r.solve.converged()) {
+        st = std::move(loaded);
+        r.parts = yarn::EnergyParts{};
+        P.evaluate(st, nullptr, nullptr, &r.parts);
+        done.push_back(r);
+        from = stretches[k];
+        std::fprintf(stderr, "yarnhom strip: step %zu/%zu (stretch %.3f) kept from %s\n", k + 1, stretches.size(),
+                     stretches[k], step_file.string().c_str());
+        continue;
+      }
+    }
+    // From here on everything is recomputed: drop stale later files.
+    for (size_t j = k; fs::exists(dir / "steps" / (step_name(int(j)) + ".h5")); ++j) {
+      fs::remove(dir / "steps" / (step_name(int(j)) + ".h5"));
+      fs::remove(dir / "centrelines" / (step_name(int(j)) + ".obj"));
+    }
+    const auto t0 = Clock::now();
+    yarn::StretchStep r = S.step(st, from, stretches[k], sopt);
+    compute_seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+    ++computed;
+    from = stretches[k];
+    done.push_back(r);
+    if (r.solve.converged()) {
+      yarn::write_step(step_file.string(), strip, r, st);
+      yarn::write_centrelines((dir / "centrelines" / (step_name(int(k)) + ".obj")).string(), strip, st.x);
+    }
+    std::string csv =
+        "step,stretch,tension_N_per_m,force_N,force_low_N,force_high_N,balance,energy_J,stretch_J,bend_J,twist_J,"
+        "contact_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,status\n";
+    for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
+    write_text(dir / "force.csv", csv);
+    const size_t left = stretches.size() - k - 1;
+    std::fprintf(stderr,
+                 "yarnhom strip: step %zu/%zu  stretch %.3f  %.6g N/m  (clamps %.4g / %.4g N)  %d iterations  %s  "
+                 "| elapsed %s, ETA %s\n",
+                 k + 1, stretches.size(), r.stretch, r.tension, r.force_low, r.force_high, r.solve.iterations,
+                 format_seconds(r.solve.seconds).c_str(),
+                 format_seconds(std::chrono::duration<double>(Clock::now() - t_start).count()).c_str(),
+                 format_seconds(left * compute_seconds / computed).c_str());
+    if (!r.solve.converged()) {
+      std::fprintf(stderr, "yarnhom: error: load step %zu (stretch %.3f) did not converge: %s\n", k + 1, stretches[k],
+                   r.solve.summary().c_str());
+      failed = true;
+      break;
+    }
+  }
+
+  std::printf("%-6s %-8s %-14s %-12s %-10s %-6s %s\n", "step", "stretch", "tension N/m", "force N", "balance", "iter",
+              "seconds");
+  for (size_t j = 0; j < done.size(); ++j)
+    std::printf("%-6zu %-8.3f %-14.6g %-12.6g %-10.2e %-6d %.2f\n", j, done[j].stretch, done[j].tension, done[j].force,
+                done[j].force != 0 ? (done[j].force_low + done[j].force_high) / std::abs(done[j].force) : 0.0,
+                done[j].solve.iterations, done[j].solve.seconds);
+  std::printf("output      %s (force.csv, steps/, centrelines/)\n", o.out.c_str());
+
+  if (!o.no_plots) {
+    const std::string py = find_python("matplotlib, numpy");
+    const std::string script = (fs::path(scripts_dir()) / "plot" / "plot_strip.py").string();
+    if (py.empty() || !fs::exists(script)) {
+      std::fprintf(stderr, "yarnhom strip: no python3 with matplotlib (or no %s): no PNGs; the numbers are in %s\n",
+                   script.c_str(), o.out.c_str());
+    } else {
+      const std::string cmdline = "'" + py + "' '" + script + "' '" + o.out + "'";
+      if (std::system(cmdline.c_str()) != 0) std::fprintf(stderr, "yarnhom strip: the plot script failed (%s)\n", cmdline.c_str());
+      else std::printf("pictures    strip.png, deformed.png, force.png\n");
+    }
+  }
+  if (failed) throw ExitCode{2};
+}
+
+}  // namespace
+
+void register_strip(CLI::App& app) {
+  auto o = std::make_shared<StripOpts>();
+  auto* cmd = app.add_subcommand(
+      "strip",
+      "Yarn-level fabric strip stretch test (docs/strip.md; supplement section 4.2): tiles a periodic "
+      "pattern over a strip of the given size, cuts the yarns at its border, binds the knit off and joins "
+      "everything into one yarn with soft boundary yarn (1/200 of the moduli), clamps both short ends and "
+      "stretches it quasi-statically, each load step solved to equilibrium by Newton's method with the "
+      "RVE's energy (rods + contact). Writes force.csv (clamp force per undeformed width, N/m), the "
+      "centrelines of every step (OBJ) and PNGs. Kill it and rerun the same command: finished load steps "
+      "are kept. Exit status 2 when a load step does not converge.");
+  cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
+  cmd->add_option("-o,--output", o->out, "Run folder (created; a rerun resumes it)")->required();
+  cmd->add_option("--size", o->size, "WIDTH,LENGTH of the strip in metres (default 0.05,0.10)");
+  cmd->add_option("--direction", o->direction,
+                  "course: the long axis (and the load) along the pattern's x, the course; wale: along y (default course)");
+  cmd->add_option("--stretch", o->stretch,
+                  "FROM:TO:STEP load steps as clamp separation / initial (default 1.0:1.7:0.05); the strip is always "
+                  "relaxed at 1.0 first");
+  cmd->add_option("--clamp", o->clamp, "Clamp band at each short end, metres (default 0.005): every vertex within it is held");
+  cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's (default 1/200)");
+  cmd->add_flag("--no-bind-off", o->no_bind_off, "Knits: no boundary course above and below (the edges may unravel)");
+  cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
+  cmd->add_option("--tolerance", o->tolerance, "Relative residual each load step converges to (default 1e-10)");
+  cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations per load step at most (default 300)");
+  cmd->add_option("--threads", o->threads, "Threads for the assembly (default: all cores)");
+  cmd->add_flag("--restart", o->restart, "Discard what the run folder holds and start again");
+  cmd->add_flag("--no-plots", o->no_plots, "Write no PNGs");
+  cmd->add_flag("--verbose", o->verbose, "One line per Newton iteration on stderr");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,387 @@
+#include "yarn/strip_generate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "yarn/frames.hpp"
+#include "yarn/rod.hpp"
+
+namespace yarnhom::yarn {
+namespace {
+
+long floor_div(long a, long b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+long floor_mod(long a, long b) { return a - b * floor_div(a, b); }
+
+// One closed yarn of the tile, unrolled over one period.
+struct TileYarn {
+  std::vector<int> v;                 // pattern vertices along the yarn
+  std::vector<Eigen::Vector2i> cell;  // tile cell of each, relative to the first
+  Eigen::Vector2i period;             // cell offset after one period
+  int dir = 0;                        // 0: runs along x, 1: along y
+  double centre = 0;                  // mean across coordinate over one period (m)
+};
+
+// A row: one copy of a tile yarn in the tiling, an infinite yarn indexed by k (vertex k is
+// pattern vertex v[k mod m] in cell cell[k mod m] + floor(k/m) period + the copy's shift).
+struct Row {
+  int yarn = 0, copy = 0;
+  double centre = 0;
+  bool soft = false;
+  long k_first = 0, k_last = 0;  // kept range
+  int sign = 1;                  // traversal: +1 along increasing axis coordinate
+};
+
+struct Tiling {
+  const Pattern& p;
+  std::vector<TileYarn> yarns;
+
+  Eigen::Vector2i shift(const Row& r) const {
+    return yarns[r.yarn].dir == 0 ? Eigen::Vector2i(0, r.copy) : Eigen::Vector2i(r.copy, 0);
+  }
+  StripSource source(const Row& r, long k) const {
+    const TileYarn& t = yarns[r.yarn];
+    const long m = static_cast<long>(t.v.size());
+    const long idx = floor_mod(k, m), q = floor_div(k, m);
+    const Eigen::Vector2i c = t.cell[idx] + int(q) * t.period + shift(r);
+    return {t.v[idx], c[0], c[1]};
+  }
+  Eigen::Vector3d position(const StripSource& s) const {
+    return p.x[s.vertex] + Eigen::Vector3d(s.cell_x * p.px, s.cell_y * p.py, 0);
+  }
+  Eigen::Vector3d position(const Row& r, long k) const { return position(source(r, k)); }
+  // +1 when increasing k moves along +axis.
+  int k_sign(const Row& r) const {
+    const TileYarn& t = yarns[r.yarn];
+    return t.period[t.dir] > 0 ? 1 : -1;
+  }
+};
+
+// A vertex of the assembled yarn before the rest state is computed.
+struct PathVertex {
+  Eigen::Vector3d x;
+  StripSource src;
+  int row = -1;   // row index (kept or continuation vertex), -1 for bridge vertices
+  long k = 0;
+  bool exit = false;  // a row's continuation beyond its end (boundary yarn)
+};
+
+// Points of a connector leg from a to b, spaced at most h, excluding a, including b.
+void leg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double h, std::vector<Eigen::Vector3d>& out) {
+  const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / h)));
+  for (int i = 1; i <= n; ++i) out.push_back(a + (b - a) * (double(i) / n));
+}
+
+Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& t) {
+  const Eigen::Vector3d a = std::abs(t[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+  return (a - a.dot(t) * t).normalized();
+}
+
+}  // namespace
+
+Strip generate_strip(const Pattern& p, const StripSpec& spec) {
+  auto fail = [&](const std::string& what) {
+    throw std::invalid_argument("strip of pattern '" + p.name + "': " + what);
+  };
+  if (!(spec.width > 0 && spec.length > 0)) fail("width and length must be positive");
+  if (!(spec.connector_scale > 0)) fail("connector scale must be positive");
+  if (static_cast<int>(p.rest_length.size()) != p.size()) fail("the pattern has no rest state");
+  const Topology topo = topology(p);
+  Tiling T{p, {}};
+  const double r = p.radius;
+  double h = 0;  // connector vertex spacing: the pattern's mean rest length
+  for (double L : p.rest_length) h += L / p.size();
+
+  // Tile yarns, unrolled.
+  for (size_t y = 0; y < topo.yarns.size(); ++y) {
+    TileYarn t;
+    Eigen::Vector2i c = Eigen::Vector2i::Zero();
+    for (int v : topo.yarns[y]) {
+      t.v.push_back(v);
+      t.cell.push_back(c);
+      c += topo.offset[v];
+    }
+    t.period = c;
+    if (c[1] == 0 && std::abs(c[0]) == 1) t.dir = 0;
+    else if (c[0] == 0 && std::abs(c[1]) == 1) t.dir = 1;
+    else
+      fail("yarn " + std::to_string(y) + " advances by (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
+           ") tiles per period; strips need yarns that run along x (course) or y (wale), one tile per period");
+    const int across = 1 - t.dir;
+    const double pa = across == 0 ? p.px : p.py;
+    for (size_t i = 0; i < t.v.size(); ++i) t.centre += (p.x[t.v[i]][across] + t.cell[i][across] * pa) / t.v.size();
+    T.yarns.push_back(std::move(t));
+  }
+
+  Strip s;
+  s.name = p.name + "_" + to_string(spec.axis);
+  s.radius = r;
+  s.width = spec.width;
+  s.length = spec.length;
+  s.axis = spec.axis;
+  s.connector_scale = spec.connector_scale;
+  const Eigen::Vector2d half(0.5 * s.extent_x(), 0.5 * s.extent_y());
+  s.tiles_x = static_cast<int>(std::ceil(s.extent_x() / p.px - 1e-9));
+  s.tiles_y = static_cast<int>(std::ceil(s.extent_y() / p.py - 1e-9));
+  const bool knit = std::all_of(T.yarns.begin(), T.yarns.end(), [](const TileYarn& t) { return t.dir == 0; });
+
+  // Rows whose centre line lies inside; for knits also the nearest outside course on each
+  // side (the bind-off rows).
+  std::vector<Row> rows[2];
+  Row below, above;
+  below.centre = -1e300;
+  above.centre = 1e300;
+  for (size_t y = 0; y < T.yarns.size(); ++y) {
+    const TileYarn& t = T.yarns[y];
+    const int across = 1 - t.dir;
+    const double pa = across == 0 ? p.px : p.py, lim = half[across];
+    const long c_lo = static_cast<long>(std::ceil((-lim - t.centre) / pa - 1e-12));
+    const long c_hi = static_cast<long>(std::floor((lim - t.centre) / pa + 1e-12));
+    for (long c = c_lo; c <= c_hi; ++c) rows[t.dir].push_back({int(y), int(c), t.centre + c * pa, false});
+    if (t.centre + (c_hi + 1) * pa < above.centre) above = {int(y), int(c_hi + 1), t.centre + (c_hi + 1) * pa, true};
+    if (t.centre + (c_lo - 1) * pa > below.centre) below = {int(y), int(c_lo - 1), t.centre + (c_lo - 1) * pa, true};
+  }
+  if (rows[0].empty() && rows[1].empty()) fail("no yarn row lies inside the strip (is it narrower than a tile?)");
+  s.rows = static_cast<int>(rows[0].size() + rows[1].size());
+  if (knit && spec.bind_off) {
+    rows[0].push_back(below);
+    rows[0].push_back(above);
+    s.boundary_rows = 2;
+  }
+  for (int d = 0; d < 2; ++d)
+    std::stable_sort(rows[d].begin(), rows[d].end(), [](const Row& a, const Row& b) { return a.centre < b.centre; });
+
+  // Kept range of each row: first to last vertex inside the strip's two ends.
+  auto kept_range = [&](Row& row) {
+    const TileYarn& t = T.yarns[row.yarn];
+    const long m = static_cast<long>(t.v.size());
+    const double period = t.dir == 0 ? p.px : p.py, lim = half[t.dir];
+    const long Q = static_cast<long>(std::ceil(lim / period)) + 3;
+    long first = 0, last = -1;
+    bool any = false;
+    for (long k = -Q * m; k < Q * m; ++k) {
+      if (std::abs(T.position(row, k)[t.dir]) <= lim) {
+        if (!any) first = k;
+        last = k;
+        any = true;
+      }
+    }
+    if (!any || last - first + 1 < m)
+      fail("the strip is shorter than one period of its yarn rows (" + std::to_string(period) + " m)");
+    row.k_first = first;
+    row.k_last = last;
+  };
+  for (auto& g : rows)
+    for (Row& row : g) kept_range(row);
+
+  // Which tiling vertices inside the rectangle are not kept (dropped with their rows).
+  {
+    std::vector<Row> all;
+    for (const auto& g : rows) all.insert(all.end(), g.begin(), g.end());
+    for (size_t y = 0; y < T.yarns.size(); ++y) {
+      const TileYarn& t = T.yarns[y];
+      const int across = 1 - t.dir;
+      const double pa = across == 0 ? p.px : p.py, pl = t.dir == 0 ? p.px : p.py;
+      const long C = static_cast<long>(std::ceil(half[across] / pa)) + 3, m = static_cast<long>(t.v.size());
+      const long Q = static_cast<long>(std::ceil(half[t.dir] / pl)) + 3;
+      for (long c = -C; c <= C; ++c) {
+        Row probe{int(y), int(c)};
+        const Row* kept = nullptr;
+        for (const Row& rr : all)
+          if (rr.yarn == int(y) && rr.copy == int(c)) kept = &rr;
+        for (long k = -Q * m; k < Q * m; ++k) {
+          const Eigen::Vector3d x = T.position(probe, k);
+          if (std::abs(x[0]) > half[0] || std::abs(x[1]) > half[1]) continue;
+          if (!kept || k < kept->k_first || k > kept->k_last) ++s.dropped_vertices;
+        }
+      }
+    }
+  }
+
+  // Serpentine order and directions. Wefts (x rows) first, bottom to top, starting at -x;
+  // then the warps (y rows), starting at the corner where the wefts ended.
+  std::vector<Row> order;
+  for (size_t i = 0; i < rows[0].size(); ++i) {
+    rows[0][i].sign = i % 2 == 0 ? 1 : -1;
+    order.push_back(rows[0][i]);
+  }
+  if (!rows[1].empty()) {
+    int first_sign = 1;
+    if (!rows[0].empty()) {
+      if (order.back().sign > 0) std::reverse(rows[1].begin(), rows[1].end());
+      first_sign = -1;  // the corner is at the top: the first warp runs down
+    }
+    for (size_t i = 0; i < rows[1].size(); ++i) {
+      rows[1][i].sign = i % 2 == 0 ? first_sign : -first_sign;
+      order.push_back(rows[1][i]);
+    }
+  }
+
+  // How far beyond everything kept a connector must leave before it turns: per axis and side.
+  double outer[2][2];  // [axis][side: 0 for -, 1 for +]
+  for (int a = 0; a < 2; ++a) outer[a][0] = outer[a][1] = -1e300;
+  for (const Row& row : order)
+    for (long k = row.k_first; k <= row.k_last; ++k) {
+      const Eigen::Vector3d x = T.position(row, k);
+      for (int a = 0; a < 2; ++a) {
+        outer[a][0] = std::max(outer[a][0], -x[a]);
+        outer[a][1] = std::max(outer[a][1], x[a]);
+      }
+    }
+  const double clearance = 2.5 * r;
+
+  // A row's continuation beyond one of its ends, from the end outwards (not including it).
+  auto continuation = [&](int ri, bool at_end) {
+    const Row& row = order[ri];
+    const int dir = T.yarns[row.yarn].dir;
+    // Traversal in k: +1 when traversing increases k.
+    const int kstep = row.sign * T.k_sign(row);
+    const long k0 = at_end ? (kstep > 0 ? row.k_last : row.k_first) : (kstep > 0 ? row.k_first : row.k_last);
+    const int dk = at_end ? kstep : -kstep;
+    const int side = at_end ? row.sign : -row.sign;  // +1: the + end of the axis
+    const double bound = outer[dir][side > 0 ? 1 : 0] + clearance;
+    std::vector<PathVertex> out;
+    const long m = static_cast<long>(T.yarns[row.yarn].v.size());
+    for (long k = k0 + dk;; k += dk) {
+      if (std::abs(k - k0) > 4 * m) fail("a row's continuation never leaves the strip");
+      const StripSource src = T.source(row, k);
+      const Eigen::Vector3d x = T.position(src);
+      out.push_back({x, src, ri, k, true});
+      if (side * x[dir] >= bound) break;
+    }
+    return out;
+  };
+
+  struct Port {
+    Eigen::Vector3d x;  // the last continuation vertex
+    int dir, side;
+  };
+  std::vector<std::vector<PathVertex>> exit_end(order.size()), exit_start(order.size());
+  for (size_t i = 0; i + 1 < order.size(); ++i) {
+    exit_end[i] = continuation(int(i), true);
+    exit_start[i + 1] = continuation(int(i) + 1, false);
+  }
+  // Bridge columns: beyond the farthest port of each side.
+  double column[2][2];
+  for (int a = 0; a < 2; ++a) column[a][0] = column[a][1] = -1e300;
+  auto note_port = [&](const std::vector<PathVertex>& ex, int dir, int side) {
+    if (ex.empty()) return;
+    double& c = column[dir][side > 0 ? 1 : 0];
+    c = std::max(c, side * ex.back().x[dir] + clearance);
+  };
+  for (size_t i = 0; i < order.size(); ++i) {
+    const int dir = T.yarns[order[i].yarn].dir;
+    note_port(exit_end[i], dir, order[i].sign);
+    note_port(exit_start[i], dir, -order[i].sign);
+  }
+  // A point at column `col` of (dir, side) and across coordinate `across`, in the mid-plane.
+  auto at = [&](int dir, int side, double across) {
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    q[dir] = side * column[dir][side > 0 ? 1 : 0];
+    q[1 - dir] = across;
+    return q;
+  };
+
+  // Assemble the path.
+  std::vector<PathVertex> path;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const Row& row = order[i];
+    const int kstep = row.sign * T.k_sign(row);
+    const long a = kstep > 0 ? row.k_first : row.k_last, b = kstep > 0 ? row.k_last : row.k_first;
+    for (long k = a;; k += kstep) {
+      const StripSource src = T.source(row, k);
+      path.push_back({T.position(src), src, int(i), k, false});
+      if (k == b) break;
+    }
+    if (i + 1 == order.size()) break;
+    // Connector to the next row.
+    const Row& nxt = order[i + 1];
+    const int d0 = T.yarns[row.yarn].dir, d1 = T.yarns[nxt.yarn].dir;
+    const Port A{exit_end[i].back().x, d0, row.sign};
+    const Port B{exit_start[i + 1].back().x, d1, -nxt.sign};
+    for (const PathVertex& v : exit_end[i]) path.push_back(v);
+    // Straight out from A's port to its column, along the column(s), straight in to B's port:
+    // every turn a right angle, so the connector never folds back onto itself.
+    std::vector<Eigen::Vector3d> corners;
+    corners.push_back(A.x);
+    corners.push_back(at(A.dir, A.side, A.x[1 - A.dir]));
+    if (A.dir != B.dir) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      c[A.dir] = A.side * column[A.dir][A.side > 0 ? 1 : 0];
+      c[B.dir] = B.side * column[B.dir][B.side > 0 ? 1 : 0];
+      corners.push_back(c);
+    }
+    corners.push_back(at(B.dir, B.side, B.x[1 - B.dir]));
+    corners.push_back(B.x);
+    std::vector<Eigen::Vector3d> pts;
+    for (size_t c = 0; c + 1 < corners.size(); ++c) leg(corners[c], corners[c + 1], h, pts);
+    pts.pop_back();  // B.x is the continuation's last vertex, added below
+    for (const Eigen::Vector3d& q : pts) path.push_back({q, StripSource{}, -1, 0, false});
+    for (auto it = exit_start[i + 1].rbegin(); it != exit_start[i + 1].rend(); ++it) path.push_back(*it);
+    ++s.connectors;
+  }
+
+  // Geometry and provenance.
+  const int n = static_cast<int>(path.size());
+  s.x.resize(n);
+  s.source.resize(n);
+  for (int i = 0; i < n; ++i) {
+    s.x[i] = path[i].x;
+    s.source[i] = path[i].src;
+  }
+  const int ne = n - 1;  // an open yarn
+
+  // Edges: an edge between consecutive vertices of the same row is an edge of the tiling and
+  // takes the pattern's frame; a forward edge k -> k+1 is the pattern's edge of vertex k, a
+  // backward one k -> k-1 the pattern's edge of vertex k-1 reversed (theta -> -theta keeps
+  // its material frame: d2 = t x d1 flips with t). It is yarn (not boundary yarn) when both
+  // ends are kept vertices of a row that is not a bind-off row.
+  auto tiling_edge = [&](int e) { return path[e].row >= 0 && path[e].row == path[e + 1].row && std::abs(path[e + 1].k - path[e].k) == 1; };
+  auto yarn_edge = [&](int e) { return tiling_edge(e) && !path[e].exit && !path[e + 1].exit && !order[path[e].row].soft; };
+  s.theta.assign(ne, 0.0);
+  s.rest_length.assign(ne, 0.0);
+  s.ref_d1.assign(ne, Eigen::Vector3d::Zero());
+  s.connector_edge.assign(ne, 1);
+  std::vector<Eigen::Vector3d> tan(ne);
+  for (int e = 0; e < ne; ++e) {
+    tan[e] = (s.x[e + 1] - s.x[e]).normalized();
+    if (tiling_edge(e)) {
+      const bool fwd = path[e + 1].k > path[e].k;
+      const int pv = fwd ? path[e].src.vertex : path[e + 1].src.vertex;  // the pattern edge's start
+      const Eigen::Vector3d d = p.ref_d1[pv] - p.ref_d1[pv].dot(tan[e]) * tan[e];
+      s.ref_d1[e] = d.normalized();
+      s.theta[e] = fwd ? p.theta[pv] : -p.theta[pv];
+      s.rest_length[e] = p.rest_length[pv];
+    } else {
+      const Eigen::Vector3d d =
+          e == 0 ? any_perpendicular(tan[e]) : transported_director({tan[e - 1], s.ref_d1[e - 1]}, tan[e]);
+      s.ref_d1[e] = d;
+    }
+    if (yarn_edge(e)) s.connector_edge[e] = 0;
+  }
+
+  // Joints: yarn joints (both edges yarn) take the pattern's rest curvature and twist at their
+  // vertex (k2 -> -k2 when traversed backwards); boundary joints are stress-free now.
+  s.rest_kappa.assign(n, Eigen::Vector2d::Zero());
+  s.rest_twist.assign(n, 0.0);
+  s.ref_twist.assign(n, 0.0);
+  s.connector_joint.assign(n, 1);
+  for (int v = 1; v + 1 < n; ++v) {
+    const int a = v - 1;
+    const bool yarn = yarn_edge(a) && yarn_edge(v);
+    const double hint = yarn ? p.ref_twist[path[v].src.vertex] : 0.0;
+    s.ref_twist[v] = reference_twist(tan[a], s.ref_d1[a], tan[v], s.ref_d1[v], hint);
+    if (yarn) {
+      const int pv = path[v].src.vertex;
+      const bool fwd = path[v + 1].k > path[v].k;
+      s.rest_kappa[v] = Eigen::Vector2d(p.rest_kappa[pv][0], fwd ? p.rest_kappa[pv][1] : -p.rest_kappa[pv][1]);
+      s.rest_twist[v] = p.rest_twist[pv];
+      s.connector_joint[v] = 0;
+    }
+  }
+  set_rest_to_shape(s);
+  check_strip(s);
+  return s;
+}
+
+}  // namespace yarnhom::yarn

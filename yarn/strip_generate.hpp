@@ -1,0 +1,50 @@
+#pragma once
+// Yarn-level fabric strips from a periodic pattern (docs/strip.md; supplement section 4.2 and
+// Fig. 2, which follows Yuksel et al. 2012's stitch meshes):
+//
+// 1. Tile the pattern over the strip's rectangle. Every yarn of a knit runs along the course
+//    (x) and becomes one infinite ROW per tile row; a woven pattern has weft rows along x and
+//    warp rows along y.
+// 2. Keep the rows whose centre line lies inside the rectangle, each cut at the strip's two
+//    ends: from its first to its last vertex inside the rectangle (vertices of a kept row
+//    that bulge out between them stay: a loop is never cut). Everything else is dropped: the
+//    pieces of outside rows that reach into the rectangle (the heads or legs of the next
+//    course) are fragments too short to carry load.
+// 3. Knits only: bind off. The next course above the top row and the one below the bottom
+//    row are kept too, as boundary yarn: their loops catch the outermost rows' loops, which
+//    would otherwise pull out (a cast-off / cast-on edge).
+// 4. Join the rows into ONE yarn: rows sorted across the strip, traversed alternately in +
+//    and - direction (serpentine), consecutive rows joined at the selvedge by a connector;
+//    for woven patterns the wefts are joined first, then a corner connector leads to the
+//    nearest warp, then the warps are joined at the top and bottom edges. A connector leaves
+//    a row along the row's own continuation in the tiling (original geometry: it cannot
+//    touch anything kept) until it is 2.5 radii beyond everything kept, then runs straight
+//    out to a column 2.5 radii beyond the farthest such port, along the column to the level
+//    of the next row's port, straight in to it, and back along that row's continuation
+//    (right-angled turns: a connector never folds back onto itself).
+// 5. Rest state: kept rows take the pattern's (rest lengths, curvatures, twists, reference
+//    frames; a row traversed against the pattern's direction gets theta -> -theta and
+//    k2 -> -k2, which leaves its energy unchanged). Boundary yarn (connectors and bind-off
+//    rows) is stress-free at its initial shape: rest length, material curvatures and twist
+//    measured on it; its moduli are connector_scale (1/200) of the yarn's.
+//
+// The result is one open yarn whose two free ends lie in the clamp bands of the stretch test.
+#include "yarn/pattern.hpp"
+#include "yarn/strip.hpp"
+
+namespace yarnhom::yarn {
+
+struct StripSpec {
+  double width = 0.05;   // m, across the long axis
+  double length = 0.10;  // m, along the long axis
+  StripAxis axis = StripAxis::kCourse;
+  double connector_scale = 1.0 / 200;
+  bool bind_off = true;  // knits: boundary course above and below (step 3)
+};
+
+// `p` should be relaxed at rest (its stored geometry is what gets tiled). Throws
+// std::invalid_argument naming the pattern when one of its yarns runs neither along x nor
+// along y, or when the strip is shorter than one period of a row.
+Strip generate_strip(const Pattern& p, const StripSpec& spec);
+
+}  // namespace yarnhom::yarn

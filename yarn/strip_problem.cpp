@@ -1,0 +1,324 @@
+#include "yarn/strip_problem.hpp"
+
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "yarn/hash_grid.hpp"
+
+namespace yarnhom::yarn {
+
+StripProblem::StripProblem(Strip strip, Material material, std::vector<signed char> clamp, StripOptions options)
+    : s_(std::move(strip)), m_(material), clamp_(std::move(clamp)), opt_(options),
+      contact_(s_.radius, material.contact_stiffness * s_.radius, options.contact_quadrature) {
+  check_strip(s_);
+  const int n = s_.size(), ne = s_.num_edges();
+  if (static_cast<int>(clamp_.size()) != n) throw std::invalid_argument("strip problem: one clamp flag per vertex expected");
+  const double r = s_.radius;
+  EA_ = m_.young * M_PI * r * r;
+  EI_ = m_.young * M_PI * r * r * r * r / 4.0;
+  GJ_ = m_.shear * M_PI * r * r * r * r / 2.0;
+  // Unknowns per vertex v: its position (free vertices), then the twist angle of edge v
+  // (unless both its ends are clamped): one node of the block Hessian.
+  std::vector<double> scale;
+  pos_index_.assign(n, -1);
+  theta_index_.assign(ne, -1);
+  node_first_.assign(n, 0);
+  node_count_.assign(n, 0);
+  for (int v = 0; v < n; ++v) {
+    node_first_[v] = ndof_;
+    if (clamp_[v] == 0) {
+      pos_index_[v] = ndof_;
+      ndof_ += 3;
+      scale.insert(scale.end(), 3, 1.0);
+    }
+    if (v < ne && (clamp_[v] == 0 || clamp_[s_.next(v)] == 0)) {
+      theta_index_[v] = ndof_++;
+      scale.push_back(1.0 / r);
+    }
+    node_count_[v] = ndof_ - node_first_[v];
+  }
+  scale_ = Eigen::Map<Eigen::VectorXd>(scale.data(), scale.size());
+  arc_.assign(ne + 1, 0.0);
+  for (int e = 0; e < ne; ++e) arc_[e + 1] = arc_[e] + s_.rest_length[e];
+}
+
+BlockHessian StripProblem::make_hessian() const { return BlockHessian(node_first_, node_count_, ndof_); }
+
+StripState StripProblem::initial_state() const {
+  StripState st;
+  st.x = s_.x;
+  st.theta = s_.theta;
+  st.twist = s_.ref_twist;
+  st.frames.resize(s_.num_edges());
+  for (int e = 0; e < s_.num_edges(); ++e)
+    st.frames[e] = {(s_.x[s_.next(e)] - s_.x[e]).normalized(), s_.ref_d1[e]};
+  return st;
+}
+
+bool StripProblem::excluded(int a, int b) const {
+  if (a == b) return true;
+  if (a > b) std::swap(a, b);
+  // Rest arc length strictly between the two edges, along the yarn (both ways when closed).
+  double gap = arc_[b] - arc_[a + 1];
+  if (s_.closed) gap = std::min(gap, arc_.back() - arc_[b + 1] + arc_[a]);
+  return gap < opt_.exclusion_arc * s_.radius;
+}
+
+std::vector<std::pair<int, int>> StripProblem::contact_pairs(const StripState& st, double margin) const {
+  const int ne = s_.num_edges();
+  const double pad = 0.5 * (contact_.reach() + margin);
+  std::vector<Box3> boxes(ne);
+  for (int e = 0; e < ne; ++e) {
+    const Eigen::Vector3d& a = st.x[e];
+    const Eigen::Vector3d& b = st.x[s_.next(e)];
+    boxes[e] = {a.cwiseMin(b).array() - pad, a.cwiseMax(b).array() + pad};
+  }
+  std::vector<std::pair<int, int>> pairs = overlapping_pairs(boxes);
+  const double reach = contact_.reach() + margin;
+  pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
+                             [&](const auto& p) {
+                               if (excluded(p.first, p.second)) return true;
+                               Vec12 q;
+                               q << st.x[p.first], st.x[s_.next(p.first)], st.x[p.second], st.x[s_.next(p.second)];
+                               return segment_distance(q) >= reach;
+                             }),
+              pairs.end());
+  return pairs;
+}
+
+namespace {
+
+// Adds an element's local gradient (local coordinates: 3 per point, then the angles) to the
+// reduced gradient; idx[k] is the reduced dof of local coordinate k, or -1.
+template <int M>
+void add_gradient(const int* idx, const Eigen::Matrix<double, M, 1>& g, Eigen::VectorXd* grad) {
+  if (grad)
+    for (int i = 0; i < M; ++i)
+      if (idx[i] >= 0) (*grad)[idx[i]] += g[i];
+}
+
+// Projection of a symmetric matrix onto the positive semi-definite cone.
+template <int M>
+void project_psd(Eigen::Matrix<double, M, M>& H) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, M, M>> es(H);
+  if (es.eigenvalues()[0] >= 0) return;
+  H = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+}
+
+}  // namespace
+
+double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, BlockHessian* hess, EnergyParts* parts,
+                              std::vector<Eigen::Vector3d>* vertex_grad, bool project) const {
+  const int n = s_.size(), ne = s_.num_edges();
+  const bool derivs = grad || hess || vertex_grad;
+  const double margin = hess ? opt_.hessian_margin * s_.radius : 0.0;
+  const std::vector<std::pair<int, int>> pairs = contact_pairs(st, margin);
+  if (hess) {
+    // The pattern: the nodes every element couples (node = vertex).
+    std::vector<std::pair<int, int>> np;
+    np.reserve(3 * size_t(n) + 6 * pairs.size());
+    for (int e = 0; e < ne; ++e) np.emplace_back(s_.next(e), e);
+    for (int v = 0; v < n; ++v)
+      if (s_.has_joint(v)) np.emplace_back(s_.next(v), s_.prev(v));
+    for (const auto& [a, b] : pairs) {
+      const int vs[4] = {a, s_.next(a), b, s_.next(b)};
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < i; ++j) np.emplace_back(vs[i], vs[j]);
+    }
+    hess->set_pattern(std::move(np));
+  }
+  auto pos_idx = [&](int v, int* idx) {
+    const int p = pos_index_[v];
+    for (int c = 0; c < 3; ++c) idx[c] = p < 0 ? -1 : p + c;
+  };
+
+  // The three sums in parallel for large strips; each thread keeps its own sums, reduced in
+  // thread order (a static schedule: the same result bit for bit at a given thread count).
+  const bool par = n >= 150 && !omp_in_parallel() && omp_get_max_threads() > 1;
+  const int nthreads = par ? omp_get_max_threads() : 1;
+  struct Local {
+    EnergyParts e;
+    Eigen::VectorXd g;
+    std::vector<double> h;
+    std::vector<Eigen::Vector3d> vg;
+  };
+  std::vector<Local> local(nthreads);
+#pragma omp parallel num_threads(nthreads) if (par)
+  {
+    Local& L = local[par ? omp_get_thread_num() : 0];
+    if (grad) L.g.setZero(ndof_);
+    if (vertex_grad) L.vg.assign(n, Eigen::Vector3d::Zero());
+    if (hess) hess->zero(L.h);
+    Eigen::VectorXd* G = grad ? &L.g : nullptr;
+    EnergyParts& e = L.e;
+#pragma omp for schedule(static) nowait
+    for (int ed = 0; ed < ne; ++ed) {
+      const int v0 = ed, v1 = s_.next(ed);
+      const double EA = s_.connector_edge[ed] ? EA_ * s_.connector_scale : EA_;
+      Vec6 g;
+      Mat6 H;
+      e.stretch += stretch_energy(st.x[v0], st.x[v1], s_.rest_length[ed], EA, derivs ? &g : nullptr, hess ? &H : nullptr);
+      if (!derivs) continue;
+      if (hess && project) project_psd<6>(H);  // indefinite under compression
+      int idx[6];
+      pos_idx(v0, idx);
+      pos_idx(v1, idx + 3);
+      add_gradient<6>(idx, g, G);
+      if (hess) hess->add<6>(idx, H, L.h);
+      if (vertex_grad) {
+        L.vg[v0] += g.segment<3>(0);
+        L.vg[v1] += g.segment<3>(3);
+      }
+    }
+#pragma omp for schedule(static) nowait
+    for (int v = 0; v < n; ++v) {
+      if (!s_.has_joint(v)) continue;
+      const int a = s_.prev(v), b = s_.next(v);  // vertices; edges a (in) and v (out)
+      const double k = s_.connector_joint[v] ? s_.connector_scale : 1.0;
+      Vec11 q;
+      q << st.x[a], st.x[v], st.x[b], st.theta[a], st.theta[v];
+      const JointFrames f{st.frames[a], st.frames[v], st.twist[v]};
+      const JointRest rest{s_.rest_kappa[v], s_.rest_twist[v], 0.5 * (s_.rest_length[a] + s_.rest_length[v])};
+      if (parts || !derivs) {
+        e.bend += joint_energy(q, f, rest, k * EI_, k * GJ_, kBend, nullptr, nullptr);
+        e.twist += joint_energy(q, f, rest, k * EI_, k * GJ_, kTwist, nullptr, nullptr);
+      }
+      if (!derivs) continue;
+      Vec11 g;
+      Mat11 H;
+      const double ej = joint_energy(q, f, rest, k * EI_, k * GJ_, kBendTwist, &g, hess ? &H : nullptr);
+      if (!parts) e.bend += ej;
+      if (hess && project) project_psd<11>(H);
+      int idx[11];
+      pos_idx(a, idx);
+      pos_idx(v, idx + 3);
+      pos_idx(b, idx + 6);
+      idx[9] = theta_index_[a];
+      idx[10] = theta_index_[v];
+      add_gradient<11>(idx, g, G);
+      if (hess) hess->add<11>(idx, H, L.h);
+      if (vertex_grad)
+        for (int c = 0; c < 3; ++c) L.vg[c == 0 ? a : c == 1 ? v : b] += g.segment<3>(3 * c);
+    }
+#pragma omp for schedule(static) nowait
+    for (int i = 0; i < static_cast<int>(pairs.size()); ++i) {
+      const int ea = pairs[i].first, eb = pairs[i].second;
+      const int vs[4] = {ea, s_.next(ea), eb, s_.next(eb)};
+      Vec12 q;
+      q << st.x[vs[0]], st.x[vs[1]], st.x[vs[2]], st.x[vs[3]];
+      Vec12 g;
+      Mat12 H;
+      const double ec = contact_.energy(q, s_.rest_length[ea], s_.rest_length[eb], derivs ? &g : nullptr, hess ? &H : nullptr);
+      e.contact += ec;
+      if (!derivs) continue;
+      if (hess && project && ec > 0) project_psd<12>(H);
+      int idx[12];
+      for (int c = 0; c < 4; ++c) pos_idx(vs[c], idx + 3 * c);
+      add_gradient<12>(idx, g, G);
+      if (hess) hess->add<12>(idx, H, L.h);
+      if (vertex_grad)
+        for (int c = 0; c < 4; ++c) L.vg[vs[c]] += g.segment<3>(3 * c);
+    }
+  }
+  EnergyParts e;
+  if (grad) grad->setZero(ndof_);
+  if (vertex_grad) vertex_grad->assign(n, Eigen::Vector3d::Zero());
+  for (const Local& L : local) {
+    e.stretch += L.e.stretch;
+    e.bend += L.e.bend;
+    e.twist += L.e.twist;
+    e.contact += L.e.contact;
+    if (grad) *grad += L.g;
+    if (vertex_grad)
+      for (int v = 0; v < n; ++v) (*vertex_grad)[v] += L.vg[v];
+  }
+  if (hess) {
+    std::vector<std::vector<double>> hv(nthreads);
+    for (int t = 0; t < nthreads; ++t) hv[t] = std::move(local[t].h);
+    hess->gather(hv);
+  }
+  if (parts) *parts = e;
+  return e.total();
+}
+
+void StripProblem::apply_step(const Eigen::VectorXd& dy, double alpha, StripState& st) const {
+  for (int v = 0; v < s_.size(); ++v)
+    if (pos_index_[v] >= 0) st.x[v] += alpha * dy.segment<3>(pos_index_[v]);
+  for (int e = 0; e < s_.num_edges(); ++e)
+    if (theta_index_[e] >= 0) st.theta[e] += alpha * dy[theta_index_[e]];
+}
+
+double StripProblem::step_bound(const StripState& st, const Eigen::VectorXd& dy) const {
+  const int n = s_.size(), ne = s_.num_edges();
+  std::vector<Eigen::Vector3d> d(n, Eigen::Vector3d::Zero());
+  for (int v = 0; v < n; ++v)
+    if (pos_index_[v] >= 0) d[v] = dy.segment<3>(pos_index_[v]);
+  // Only segments whose swept boxes overlap can meet during the step.
+  std::vector<Box3> boxes(ne);
+  for (int e = 0; e < ne; ++e) {
+    const int w = s_.next(e);
+    const Eigen::Vector3d a = st.x[e], b = st.x[w], a1 = a + d[e], b1 = b + d[w];
+    boxes[e] = {a.cwiseMin(b).cwiseMin(a1).cwiseMin(b1), a.cwiseMax(b).cwiseMax(a1).cwiseMax(b1)};
+  }
+  double bound = 1.0;
+  for (const auto& [ea, eb] : overlapping_pairs(boxes)) {
+    if (excluded(ea, eb)) continue;
+    const int vs[4] = {ea, s_.next(ea), eb, s_.next(eb)};
+    Vec12 q, dq;
+    for (int c = 0; c < 4; ++c) {
+      q.segment<3>(3 * c) = st.x[vs[c]];
+      dq.segment<3>(3 * c) = d[vs[c]];
+    }
+    bound = std::min(bound, contact_.step_bound(q, dq));
+  }
+  return bound;
+}
+
+double StripProblem::min_distance(const StripState& st) const {
+  double best = 1e300;
+  for (const auto& [ea, eb] : contact_pairs(st, 0.0)) {
+    Vec12 q;
+    q << st.x[ea], st.x[s_.next(ea)], st.x[eb], st.x[s_.next(eb)];
+    best = std::min(best, segment_distance(q) / (2.0 * s_.radius));
+  }
+  return best;
+}
+
+void StripProblem::rebase_frames(StripState& st) const {
+  const int ne = s_.num_edges();
+  std::vector<EdgeFrame> now(ne);
+  for (int e = 0; e < ne; ++e) {
+    const Eigen::Vector3d t = (st.x[s_.next(e)] - st.x[e]).normalized();
+    now[e] = {t, transported_director(st.frames[e], t)};
+  }
+  for (int v = 0; v < s_.size(); ++v) {
+    if (!s_.has_joint(v)) continue;
+    const int a = s_.prev(v);
+    st.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.twist[v]);
+  }
+  st.frames = std::move(now);
+}
+
+void StripProblem::track_frames(StripState& st, double max_turn) const {
+  const int ne = s_.num_edges();
+  const double c = std::cos(max_turn);
+  std::vector<EdgeFrame> now(ne);
+  for (int e = 0; e < ne; ++e) {
+    const Eigen::Vector3d t = (st.x[s_.next(e)] - st.x[e]).normalized();
+    now[e] = {t, transported_director(st.frames[e], t)};
+  }
+  for (int v = 0; v < s_.size(); ++v) {
+    if (!s_.has_joint(v)) continue;
+    const int a = s_.prev(v);
+    st.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.twist[v]);
+  }
+  for (int e = 0; e < ne; ++e)
+    if (now[e].t.dot(st.frames[e].t) < c) st.frames[e] = now[e];
+}
+
+}  // namespace yarnhom::yarn
