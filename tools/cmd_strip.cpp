@@ -6,8 +6,8 @@
 // DIR/strip.obj      the generated strip's centrelines (OBJ polylines, m)
 // DIR/steps/step_KKK.h5        the equilibrium of load step K (what a resumed run continues from)
 // DIR/centrelines/step_KKK.obj its centrelines
-// DIR/force.csv      per load step: stretch, force per width (N/m), both clamps' forces, energy,
-//                    iterations, times, certificate
+// DIR/force.csv      per load step: stretch, force per width (N/m), both clamps' forces, energy
+//                    and its parts, iterations, times, closest pair, topology certificate
 // DIR/strip.png, deformed.png, force.png (when a python3 with matplotlib is found)
 #include <omp.h>
 
@@ -25,7 +25,6 @@
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 #include "yarn/generate.hpp"
-#include "yarn/relax.hpp"
 #include "yarn/strip_generate.hpp"
 #include "yarn/strip_io.hpp"
 
@@ -95,11 +94,12 @@ std::string step_name(int k) {
 std::string csv_line(int k, const yarn::StretchStep& r) {
   char buf[640];
   std::snprintf(buf, sizeof buf,
-                "%d,%.9g,%.10g,%.10g,%.10g,%.10g,%.3e,%.12g,%.6g,%.6g,%.6g,%.6g,%d,%.3e,%.3f,%.3f,%.3f,%.4f,%s\n", k,
-                r.stretch, r.tension, r.force, r.force_low, r.force_high,
+                "%d,%.9g,%.10g,%.10g,%.10g,%.10g,%.3e,%.12g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.3e,%.3f,%.3f,%.3f,%.4f,%d,%d,%s\n",
+                k, r.stretch, r.tension, r.force, r.force_low, r.force_high,
                 r.force != 0 ? (r.force_low + r.force_high) / std::abs(r.force) : 0.0, r.energy, r.parts.stretch,
-                r.parts.bend, r.parts.twist, r.parts.contact, r.solve.iterations, r.solve.residual, r.solve.seconds,
-                r.solve.assembly_seconds, r.solve.factor_seconds, r.min_distance, yarn::to_string(r.solve.status));
+                r.parts.bend, r.parts.twist, r.parts.contact, r.parts.barrier, r.solve.iterations, r.solve.residual,
+                r.solve.seconds, r.solve.assembly_seconds, r.solve.factor_seconds, r.min_distance,
+                r.certificate.valid ? 1 : 0, r.certificate.moves, yarn::to_string(r.solve.status));
   return buf;
 }
 
@@ -166,9 +166,8 @@ void run(const StripOpts& o) {
 
   // The strip: the tile relaxed at rest (its stored rest state is the material's, its
   // geometry not an equilibrium), tiled, cut, joined.
-  std::fprintf(stderr, "yarnhom strip: relaxing the tile of '%s' at rest\n", raw.name.c_str());
-  yarn::SolveReport rest;
-  const yarn::Pattern tile = yarn::relax_pattern(raw, mat, &rest);
+  std::fprintf(stderr, "yarnhom strip: relaxing the tile of '%s' at rest (stress-free period)\n", raw.name.c_str());
+  const yarn::StripTile tile = yarn::rest_tile(raw, mat);
   yarn::Strip strip = yarn::generate_strip(tile, spec);
   const std::vector<signed char> clamp = yarn::clamp_flags(strip, o.clamp);
   const yarn::StripProblem P(strip, mat, clamp);
@@ -177,8 +176,9 @@ void run(const StripOpts& o) {
   int nconn = 0, nclamped = 0;
   for (auto c : strip.connector_edge) nconn += c;
   for (auto c : clamp) nclamped += c != 0;
-  std::printf("strip       %s: %.4g x %.4g m (%s), %d x %d tiles of %.4g x %.4g m\n", strip.name.c_str(), strip.width,
-              strip.length, o.direction.c_str(), strip.tiles_x, strip.tiles_y, tile.px, tile.py);
+  std::printf("strip       %s: %.4g x %.4g m (%s), %d x %d tiles, relaxed lattice (%.5g, 0), (%.5g, %.5g) m\n",
+              strip.name.c_str(), strip.width, strip.length, o.direction.c_str(), strip.tiles_x, strip.tiles_y,
+              tile.lattice(0, 0), tile.lattice(0, 1), tile.lattice(1, 1));
   std::printf("yarn        %d vertices (%d rows + %d bind-off rows, %d connectors, %d of %d edges boundary yarn at "
               "%.4g of the moduli), %d clamped, %d unknowns\n",
               strip.size(), strip.rows, strip.boundary_rows, strip.connectors, nconn, strip.num_edges(),
@@ -201,7 +201,7 @@ void run(const StripOpts& o) {
     if (fs::exists(step_file) && computed == 0) {
       yarn::StripState loaded;
       yarn::StretchStep r = yarn::read_step(step_file.string(), P, loaded);
-      if (std::abs(r.stretch - stretches[k]) < 1e-12 && r.solve.converged()) {
+      if (std::abs(r.stretch - stretches[k]) < 1e-12 && r.solve.converged() && r.certificate.valid) {
         st = std::move(loaded);
         r.parts = yarn::EnergyParts{};
         P.evaluate(st, nullptr, nullptr, &r.parts);
@@ -223,13 +223,17 @@ void run(const StripOpts& o) {
     ++computed;
     from = stretches[k];
     done.push_back(r);
-    if (r.solve.converged()) {
+    // Only certified equilibria are saved: every move from the generated strip kept every pair
+    // of segments above d_min (no yarn passed through another).
+    const bool ok = r.solve.converged() && r.certificate.valid;
+    if (ok) {
       yarn::write_step(step_file.string(), strip, r, st);
       yarn::write_centrelines((dir / "centrelines" / (step_name(int(k)) + ".obj")).string(), strip, st.x);
     }
     std::string csv =
         "step,stretch,tension_N_per_m,force_N,force_low_N,force_high_N,balance,energy_J,stretch_J,bend_J,twist_J,"
-        "contact_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,status\n";
+        "contact_J,barrier_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,certified,"
+        "checked_moves,status\n";
     for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
     write_text(dir / "force.csv", csv);
     const size_t left = stretches.size() - k - 1;
@@ -240,9 +244,13 @@ void run(const StripOpts& o) {
                  format_seconds(r.solve.seconds).c_str(),
                  format_seconds(std::chrono::duration<double>(Clock::now() - t_start).count()).c_str(),
                  format_seconds(left * compute_seconds / computed).c_str());
-    if (!r.solve.converged()) {
-      std::fprintf(stderr, "yarnhom: error: load step %zu (stretch %.3f) did not converge: %s\n", k + 1, stretches[k],
-                   r.solve.summary().c_str());
+    if (!ok) {
+      if (!r.solve.converged())
+        std::fprintf(stderr, "yarnhom: error: load step %zu (stretch %.3f) did not converge: %s\n", k + 1, stretches[k],
+                     r.solve.summary().c_str());
+      else
+        std::fprintf(stderr, "yarnhom: error: load step %zu (stretch %.3f) has no topology certificate: %s\n", k + 1,
+                     stretches[k], yarn::summary(r.certificate, 2 * strip.radius).c_str());
       failed = true;
       break;
     }
@@ -281,9 +289,11 @@ void register_strip(CLI::App& app) {
       "pattern over a strip of the given size, cuts the yarns at its border, binds the knit off and joins "
       "everything into one yarn with soft boundary yarn (1/200 of the moduli), clamps both short ends and "
       "stretches it quasi-statically, each load step solved to equilibrium by Newton's method with the "
-      "RVE's energy (rods + contact). Writes force.csv (clamp force per undeformed width, N/m), the "
+      "RVE's energy (rods, contact kernel and IPC barrier, CCD collision filter). The tile is the pattern's "
+      "stress-free relaxed tile (the same rest state as produce). Writes force.csv (clamp force per undeformed width, N/m), the "
       "centrelines of every step (OBJ) and PNGs. Kill it and rerun the same command: finished load steps "
-      "are kept. Exit status 2 when a load step does not converge.");
+      "are kept. Exit status 2 when a load step does not converge (or, never expected, loses its topology "
+      "certificate).");
   cmd->add_option("PATTERN", o->pattern, "A .pyp file, or a built-in pattern: basket, plain, stockinette")->required();
   cmd->add_option("-o,--output", o->out, "Run folder (created; a rerun resumes it)")->required();
   cmd->add_option("--size", o->size, "WIDTH,LENGTH of the strip in metres (default 0.05,0.10)");

@@ -1,38 +1,61 @@
 #pragma once
-// The contact model of yarn strips behind one small interface, so that replacing it is one
-// edit in strip_contact.cpp: the energy of a pair of segments, how far that energy reaches
-// (for the broad phase), a step filter that keeps every pair from passing through each other
-// along a Newton step, and the closest distance of two segments (the certificate).
+// The contact model of yarn strips behind one small interface (one place to change it): the
+// energy of a pair of segments, how far that energy reaches (for the broad phase), the
+// collision filter along a straight move, and the closest distance (the certificate). It is
+// the RVE's (docs/rve.md section 3), built from issue 10's free functions:
 //
-// Today: yarn/contact.hpp's integrated penalty, the same energy as the RVE's, and a
-// conservative step filter (along a linear step every point of a segment moves at most as far
-// as its farther endpoint, so two segments at distance d stay at least d - t (m_a + m_b)
-// apart after the fraction t of the step). Issue 10's barrier in the closest segment
-// distance, its CCD step filter and its topology certificate replace these when they land.
+//   - the integrated penalty kernel (yarn/contact.hpp), the physical contact response;
+//   - IPC's log barrier on the exact closest distance (yarn/barrier.hpp,
+//     yarn/segment_distance.hpp): +inf at d_min, zero beyond d_hat, so that no configuration
+//     with a pair at d_min has finite energy;
+//   - conservative-advancement CCD against d_min (yarn/ccd.hpp) for every straight move.
+//
+// Distances in yarn diameters 2r as in RveOptions: d_min 0.25, d_hat 0.5, barrier energy
+// scale k_c (2r)^2; physical equilibria keep their centrelines above 0.62 x 2r (measured for
+// the RVE), where the barrier is zero.
 #include <Eigen/Core>
 
+#include "yarn/barrier.hpp"
 #include "yarn/contact.hpp"
+#include "yarn/segment_distance.hpp"
 
 namespace yarnhom::yarn {
 
-class StripContact {
- public:
-  StripContact(double radius, double kc, int quadrature = 4) : params_{radius, kc, quadrature} {}
-
-  double radius() const { return params_.radius; }
-  // Centreline distance beyond which a pair of segments has no energy.
-  double reach() const { return 2.0 * params_.radius; }
-  // q = [a0, a1, b0, b1]; La, Lb the segments' rest lengths.
-  double energy(const Vec12& q, double La, double Lb, Vec12* g, Mat12* H) const;
-  // Largest t in (0, 1] such that moving the endpoints by t dq keeps the segments at least a
-  // tenth of their present distance apart at every instant of the motion.
-  double step_bound(const Vec12& q, const Vec12& dq) const;
-
- private:
-  ContactParams params_;
+struct StripContactOptions {
+  int quadrature = 4;             // kernel Gauss points per segment
+  double dmin = 0.25;             // barrier: +inf at this distance (in 2r)
+  double dhat = 0.5;              // barrier: zero beyond (in 2r)
+  double barrier_stiffness = 1.0; // barrier energy scale in k_c (2r)^2
 };
 
-// Closest distance between segment a0-a1 and segment b0-b1, q = [a0, a1, b0, b1].
-double segment_distance(const Vec12& q);
+class StripContact {
+ public:
+  StripContact(double radius, double kc, const StripContactOptions& o = {});
+
+  double radius() const { return kernel_.radius; }
+  // Centreline distance beyond which a pair has no energy (the kernel's 2r; d_hat < 2r).
+  double reach() const { return 2.0 * kernel_.radius; }
+  double dmin() const { return barrier_.dmin; }  // m
+
+  struct Energy {
+    double kernel = 0, barrier = 0;  // J; barrier +inf at or below d_min
+    double total() const { return kernel + barrier; }
+  };
+  // q = [a0, a1, b0, b1]; La, Lb the segments' rest lengths; g, H (when given) receive the
+  // gradient and Hessian of the total.
+  Energy energy(const Vec12& q, double La, double Lb, Vec12* g, Mat12* H) const;
+  // The fraction of the straight move q0 -> q1 along which the pair stays above d_min
+  // (1: all of it).
+  double safe_fraction(const Vec12& q0, const Vec12& q1) const;
+
+ private:
+  ContactParams kernel_;
+  BarrierParams barrier_;
+};
+
+// Closest distance of the pair q = [a0, a1, b0, b1].
+inline double pair_distance(const Vec12& q) {
+  return segment_distance(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), q.segment<3>(9));
+}
 
 }  // namespace yarnhom::yarn

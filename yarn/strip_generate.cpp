@@ -34,6 +34,7 @@ struct Row {
 
 struct Tiling {
   const Pattern& p;
+  Eigen::Matrix2d A;  // lattice vectors (columns)
   std::vector<TileYarn> yarns;
 
   Eigen::Vector2i shift(const Row& r) const {
@@ -47,7 +48,8 @@ struct Tiling {
     return {t.v[idx], c[0], c[1]};
   }
   Eigen::Vector3d position(const StripSource& s) const {
-    return p.x[s.vertex] + Eigen::Vector3d(s.cell_x * p.px, s.cell_y * p.py, 0);
+    const Eigen::Vector2d o = A * Eigen::Vector2d(s.cell_x, s.cell_y);
+    return p.x[s.vertex] + Eigen::Vector3d(o[0], o[1], 0);
   }
   Eigen::Vector3d position(const Row& r, long k) const { return position(source(r, k)); }
   // +1 when increasing k moves along +axis.
@@ -79,7 +81,41 @@ Eigen::Vector3d any_perpendicular(const Eigen::Vector3d& t) {
 
 }  // namespace
 
-Strip generate_strip(const Pattern& p, const StripSpec& spec) {
+StripTile as_tile(const Pattern& p) {
+  StripTile t;
+  t.pattern = p;
+  t.lattice = Eigen::Vector2d(p.px, p.py).asDiagonal();
+  return t;
+}
+
+StripTile rest_tile(const Pattern& raw, const Material& material, const RestOptions& opt) {
+  const RestTile rt = relax_tile(raw, material, opt);
+  const RveProblem& rve = rt.rve;
+  StripTile t;
+  t.lattice = rve.lattice();
+  Pattern& q = t.pattern;
+  q = rve.pattern();
+  q.px = t.lattice(0, 0);
+  q.py = t.lattice(1, 1);
+  // At s = 0 the RVE's map is the identity on its reference coordinates (F0 applied to the
+  // stored points first): positions and frames there are the tile's geometry at rest.
+  q.x = rve.positions(Strain::Zero(), rt.state);
+  q.theta = rt.state.theta;
+  const Topology& topo = rve.topo();
+  auto edge = [&](int v) {
+    const Eigen::Vector2d o = t.lattice * topo.offset[v].cast<double>();
+    return (q.x[topo.next[v]] + Eigen::Vector3d(o[0], o[1], 0) - q.x[v]).normalized();
+  };
+  for (int v = 0; v < q.size(); ++v) q.ref_d1[v] = transported_director(rt.state.frames.edge[v], edge(v));
+  for (int v = 0; v < q.size(); ++v) {
+    const int a = topo.prev[v];
+    q.ref_twist[v] = reference_twist(edge(a), q.ref_d1[a], edge(v), q.ref_d1[v], rt.state.frames.twist[v]);
+  }
+  return t;
+}
+
+Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
+  const Pattern& p = tile.pattern;
   auto fail = [&](const std::string& what) {
     throw std::invalid_argument("strip of pattern '" + p.name + "': " + what);
   };
@@ -87,7 +123,9 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
   if (!(spec.connector_scale > 0)) fail("connector scale must be positive");
   if (static_cast<int>(p.rest_length.size()) != p.size()) fail("the pattern has no rest state");
   const Topology topo = topology(p);
-  Tiling T{p, {}};
+  if (tile.lattice(1, 0) != 0.0 || !(tile.lattice(0, 0) > 0 && tile.lattice(1, 1) > 0))
+    fail("the lattice must be upper triangular with a positive diagonal (first vector along x)");
+  Tiling T{p, tile.lattice, {}};
   const double r = p.radius;
   double h = 0;  // connector vertex spacing: the pattern's mean rest length
   for (double L : p.rest_length) h += L / p.size();
@@ -108,8 +146,10 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
       fail("yarn " + std::to_string(y) + " advances by (" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
            ") tiles per period; strips need yarns that run along x (course) or y (wale), one tile per period");
     const int across = 1 - t.dir;
-    const double pa = across == 0 ? p.px : p.py;
-    for (size_t i = 0; i < t.v.size(); ++i) t.centre += (p.x[t.v[i]][across] + t.cell[i][across] * pa) / t.v.size();
+    for (size_t i = 0; i < t.v.size(); ++i) {
+      const Eigen::Vector2d o = T.A * t.cell[i].cast<double>();
+      t.centre += (p.x[t.v[i]][across] + o[across]) / t.v.size();
+    }
     T.yarns.push_back(std::move(t));
   }
 
@@ -121,8 +161,8 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
   s.axis = spec.axis;
   s.connector_scale = spec.connector_scale;
   const Eigen::Vector2d half(0.5 * s.extent_x(), 0.5 * s.extent_y());
-  s.tiles_x = static_cast<int>(std::ceil(s.extent_x() / p.px - 1e-9));
-  s.tiles_y = static_cast<int>(std::ceil(s.extent_y() / p.py - 1e-9));
+  s.tiles_x = static_cast<int>(std::ceil(s.extent_x() / T.A(0, 0) - 1e-9));
+  s.tiles_y = static_cast<int>(std::ceil(s.extent_y() / T.A(1, 1) - 1e-9));
   const bool knit = std::all_of(T.yarns.begin(), T.yarns.end(), [](const TileYarn& t) { return t.dir == 0; });
 
   // Rows whose centre line lies inside; for knits also the nearest outside course on each
@@ -134,7 +174,8 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
   for (size_t y = 0; y < T.yarns.size(); ++y) {
     const TileYarn& t = T.yarns[y];
     const int across = 1 - t.dir;
-    const double pa = across == 0 ? p.px : p.py, lim = half[across];
+    // A copy shifted by one cell across moves the row by the lattice's diagonal entry.
+    const double pa = across == 0 ? T.A(0, 0) : T.A(1, 1), lim = half[across];
     const long c_lo = static_cast<long>(std::ceil((-lim - t.centre) / pa - 1e-12));
     const long c_hi = static_cast<long>(std::floor((lim - t.centre) / pa + 1e-12));
     for (long c = c_lo; c <= c_hi; ++c) rows[t.dir].push_back({int(y), int(c), t.centre + c * pa, false});
@@ -155,7 +196,7 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
   auto kept_range = [&](Row& row) {
     const TileYarn& t = T.yarns[row.yarn];
     const long m = static_cast<long>(t.v.size());
-    const double period = t.dir == 0 ? p.px : p.py, lim = half[t.dir];
+    const double period = t.dir == 0 ? T.A(0, 0) : T.A(1, 1), lim = half[t.dir];
     const long Q = static_cast<long>(std::ceil(lim / period)) + 3;
     long first = 0, last = -1;
     bool any = false;
@@ -181,7 +222,7 @@ Strip generate_strip(const Pattern& p, const StripSpec& spec) {
     for (size_t y = 0; y < T.yarns.size(); ++y) {
       const TileYarn& t = T.yarns[y];
       const int across = 1 - t.dir;
-      const double pa = across == 0 ? p.px : p.py, pl = t.dir == 0 ? p.px : p.py;
+      const double pa = across == 0 ? T.A(0, 0) : T.A(1, 1), pl = t.dir == 0 ? T.A(0, 0) : T.A(1, 1);
       const long C = static_cast<long>(std::ceil(half[across] / pa)) + 3, m = static_cast<long>(t.v.size());
       const long Q = static_cast<long>(std::ceil(half[t.dir] / pl)) + 3;
       for (long c = -C; c <= C; ++c) {

@@ -2,6 +2,9 @@
 // Yarn-level fabric strips from a periodic pattern (docs/strip.md; supplement section 4.2 and
 // Fig. 2, which follows Yuksel et al. 2012's stitch meshes):
 //
+// 0. The tile: the pattern relaxed at rest as the RVE relaxes it (rest_tile: relax_tile's
+//    stress-free period by default, docs/rve.md section 6), in the reference tile's
+//    coordinates; its lattice may be sheared (the first lattice vector is along x).
 // 1. Tile the pattern over the strip's rectangle. Every yarn of a knit runs along the course
 //    (x) and becomes one infinite ROW per tile row; a woven pattern has weft rows along x and
 //    warp rows along y.
@@ -29,7 +32,10 @@
 //    measured on it; its moduli are connector_scale (1/200) of the yarn's.
 //
 // The result is one open yarn whose two free ends lie in the clamp bands of the stretch test.
+#include <Eigen/Core>
+
 #include "yarn/pattern.hpp"
+#include "yarn/rest.hpp"
 #include "yarn/strip.hpp"
 
 namespace yarnhom::yarn {
@@ -42,9 +48,21 @@ struct StripSpec {
   bool bind_off = true;  // knits: boundary course above and below (step 3)
 };
 
-// `p` should be relaxed at rest (its stored geometry is what gets tiled). Throws
-// std::invalid_argument naming the pattern when one of its yarns runs neither along x nor
-// along y, or when the strip is shorter than one period of a row.
-Strip generate_strip(const Pattern& p, const StripSpec& spec);
+// What gets tiled: a pattern's geometry, twist angles and frames at rest (its rest lengths,
+// curvatures and twists are the material's), and the lattice: vertex v of the copy in cell
+// (i, j) sits at x_v + lattice (i, j), lattice(1, 0) = 0.
+struct StripTile {
+  Pattern pattern;
+  Eigen::Matrix2d lattice = Eigen::Matrix2d::Identity();
+};
+// The pattern relaxed at rest by relax_tile (the stress-free tile unless opt.free_period is
+// false), in its reference coordinates; throws what relax_tile throws.
+StripTile rest_tile(const Pattern& raw, const Material& material, const RestOptions& opt = {});
+// A pattern taken as it is (its stored geometry, rectangular period px x py).
+StripTile as_tile(const Pattern& p);
+
+// Throws std::invalid_argument naming the pattern when one of its yarns runs neither along x
+// nor along y, or when the strip is narrower than a row or shorter than one period of a row.
+Strip generate_strip(const StripTile& tile, const StripSpec& spec);
 
 }  // namespace yarnhom::yarn

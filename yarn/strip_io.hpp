@@ -18,6 +18,10 @@
 //   /frames/t     float64 [n-1, 3] reference frames the next solve uses (tangents ...)
 //   /frames/d1    float64 [n-1, 3] (... and directors)
 //   /frames/twist float64 [n]      reference twist per joint (rad)
+//   /certificate  attrs: valid (0/1), dmin (m), min_distance (m; -1: none within reach),
+//                 moves, failure: the topology certificate of every move from the generated
+//                 strip to this equilibrium (yarn/contact_certificate.hpp); a file without it
+//                 reads back as not certified
 #include <string>
 #include <vector>
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "yarn/hash_grid.hpp"
@@ -14,7 +15,7 @@ namespace yarnhom::yarn {
 
 StripProblem::StripProblem(Strip strip, Material material, std::vector<signed char> clamp, StripOptions options)
     : s_(std::move(strip)), m_(material), clamp_(std::move(clamp)), opt_(options),
-      contact_(s_.radius, material.contact_stiffness * s_.radius, options.contact_quadrature) {
+      contact_(s_.radius, material.contact_stiffness * s_.radius, options.contact) {
   check_strip(s_);
   const int n = s_.size(), ne = s_.num_edges();
   if (static_cast<int>(clamp_.size()) != n) throw std::invalid_argument("strip problem: one clamp flag per vertex expected");
@@ -57,6 +58,9 @@ StripState StripProblem::initial_state() const {
   st.frames.resize(s_.num_edges());
   for (int e = 0; e < s_.num_edges(); ++e)
     st.frames[e] = {(s_.x[s_.next(e)] - s_.x[e]).normalized(), s_.ref_d1[e]};
+  st.certificate.dmin = contact_.dmin();
+  st.certificate.min_distance = min_distance(st) * 2 * s_.radius;
+  if (!(st.certificate.min_distance > st.certificate.dmin)) invalidate(st.certificate, "the generated strip has a pair within d_min");
   return st;
 }
 
@@ -83,9 +87,8 @@ std::vector<std::pair<int, int>> StripProblem::contact_pairs(const StripState& s
   pairs.erase(std::remove_if(pairs.begin(), pairs.end(),
                              [&](const auto& p) {
                                if (excluded(p.first, p.second)) return true;
-                               Vec12 q;
-                               q << st.x[p.first], st.x[s_.next(p.first)], st.x[p.second], st.x[s_.next(p.second)];
-                               return segment_distance(q) >= reach;
+                               return segment_distance(st.x[p.first], st.x[s_.next(p.first)], st.x[p.second],
+                                                       st.x[s_.next(p.second)]) >= reach;
                              }),
               pairs.end());
   return pairs;
@@ -113,7 +116,8 @@ void project_psd(Eigen::Matrix<double, M, M>& H) {
 }  // namespace
 
 double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, BlockHessian* hess, EnergyParts* parts,
-                              std::vector<Eigen::Vector3d>* vertex_grad, bool project) const {
+                              std::vector<Eigen::Vector3d>* vertex_grad, Projection projection) const {
+  const bool project = projection == Projection::kAll;
   const int n = s_.size(), ne = s_.num_edges();
   const bool derivs = grad || hess || vertex_grad;
   const double margin = hess ? opt_.hessian_margin * s_.radius : 0.0;
@@ -193,7 +197,7 @@ double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, Block
       Mat11 H;
       const double ej = joint_energy(q, f, rest, k * EI_, k * GJ_, kBendTwist, &g, hess ? &H : nullptr);
       if (!parts) e.bend += ej;
-      if (hess && project) project_psd<11>(H);
+      if (hess && (project || (projection == Projection::kBoundaryJoints && s_.connector_joint[v]))) project_psd<11>(H);
       int idx[11];
       pos_idx(a, idx);
       pos_idx(v, idx + 3);
@@ -213,10 +217,12 @@ double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, Block
       q << st.x[vs[0]], st.x[vs[1]], st.x[vs[2]], st.x[vs[3]];
       Vec12 g;
       Mat12 H;
-      const double ec = contact_.energy(q, s_.rest_length[ea], s_.rest_length[eb], derivs ? &g : nullptr, hess ? &H : nullptr);
-      e.contact += ec;
+      const StripContact::Energy ec =
+          contact_.energy(q, s_.rest_length[ea], s_.rest_length[eb], derivs ? &g : nullptr, hess ? &H : nullptr);
+      e.contact += ec.kernel;
+      e.barrier += ec.barrier;
       if (!derivs) continue;
-      if (hess && project && ec > 0) project_psd<12>(H);
+      if (hess && project && ec.total() > 0) project_psd<12>(H);
       int idx[12];
       for (int c = 0; c < 4; ++c) pos_idx(vs[c], idx + 3 * c);
       add_gradient<12>(idx, g, G);
@@ -233,6 +239,7 @@ double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, Block
     e.bend += L.e.bend;
     e.twist += L.e.twist;
     e.contact += L.e.contact;
+    e.barrier += L.e.barrier;
     if (grad) *grad += L.g;
     if (vertex_grad)
       for (int v = 0; v < n; ++v) (*vertex_grad)[v] += L.vg[v];
@@ -254,38 +261,44 @@ void StripProblem::apply_step(const Eigen::VectorXd& dy, double alpha, StripStat
 }
 
 double StripProblem::step_bound(const StripState& st, const Eigen::VectorXd& dy) const {
-  const int n = s_.size(), ne = s_.num_edges();
-  std::vector<Eigen::Vector3d> d(n, Eigen::Vector3d::Zero());
-  for (int v = 0; v < n; ++v)
-    if (pos_index_[v] >= 0) d[v] = dy.segment<3>(pos_index_[v]);
-  // Only segments whose swept boxes overlap can meet during the step.
+  std::vector<Eigen::Vector3d> to = st.x;
+  for (int v = 0; v < s_.size(); ++v)
+    if (pos_index_[v] >= 0) to[v] += dy.segment<3>(pos_index_[v]);
+  return safe_fraction(st.x, to);
+}
+
+double StripProblem::safe_fraction(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) const {
+  const int ne = s_.num_edges();
+  // Only segments whose swept boxes come within d_min of each other can meet during the move.
+  const double pad = 0.5 * contact_.dmin();
   std::vector<Box3> boxes(ne);
   for (int e = 0; e < ne; ++e) {
     const int w = s_.next(e);
-    const Eigen::Vector3d a = st.x[e], b = st.x[w], a1 = a + d[e], b1 = b + d[w];
-    boxes[e] = {a.cwiseMin(b).cwiseMin(a1).cwiseMin(b1), a.cwiseMax(b).cwiseMax(a1).cwiseMax(b1)};
+    const Eigen::Vector3d lo = from[e].cwiseMin(from[w]).cwiseMin(to[e]).cwiseMin(to[w]);
+    const Eigen::Vector3d hi = from[e].cwiseMax(from[w]).cwiseMax(to[e]).cwiseMax(to[w]);
+    boxes[e] = {lo.array() - pad, hi.array() + pad};
   }
-  double bound = 1.0;
-  for (const auto& [ea, eb] : overlapping_pairs(boxes)) {
+  const std::vector<std::pair<int, int>> pairs = overlapping_pairs(boxes);
+  double t = 1.0;
+#pragma omp parallel for schedule(dynamic, 64) reduction(min : t) if (pairs.size() > 2000 && !omp_in_parallel())
+  for (int i = 0; i < static_cast<int>(pairs.size()); ++i) {
+    const auto [ea, eb] = pairs[i];
     if (excluded(ea, eb)) continue;
     const int vs[4] = {ea, s_.next(ea), eb, s_.next(eb)};
-    Vec12 q, dq;
+    Vec12 q0, q1;
     for (int c = 0; c < 4; ++c) {
-      q.segment<3>(3 * c) = st.x[vs[c]];
-      dq.segment<3>(3 * c) = d[vs[c]];
+      q0.segment<3>(3 * c) = from[vs[c]];
+      q1.segment<3>(3 * c) = to[vs[c]];
     }
-    bound = std::min(bound, contact_.step_bound(q, dq));
+    t = std::min(t, contact_.safe_fraction(q0, q1));
   }
-  return bound;
+  return t;
 }
 
 double StripProblem::min_distance(const StripState& st) const {
-  double best = 1e300;
-  for (const auto& [ea, eb] : contact_pairs(st, 0.0)) {
-    Vec12 q;
-    q << st.x[ea], st.x[s_.next(ea)], st.x[eb], st.x[s_.next(eb)];
-    best = std::min(best, segment_distance(q) / (2.0 * s_.radius));
-  }
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [ea, eb] : contact_pairs(st, 0.0))
+    best = std::min(best, segment_distance(st.x[ea], st.x[s_.next(ea)], st.x[eb], st.x[s_.next(eb)]) / (2.0 * s_.radius));
   return best;
 }
 

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "yarn/block_hessian.hpp"
+#include "yarn/contact_certificate.hpp"
 #include "yarn/material.hpp"
 #include "yarn/rod.hpp"
 #include "yarn/rve.hpp"
@@ -35,10 +36,14 @@ struct StripState {
   std::vector<double> theta;       // per edge (rad)
   std::vector<EdgeFrame> frames;   // per edge: reference frame, fixed during a solve
   std::vector<double> twist;       // per vertex: reference twist of the frames (its branch)
+  // What the collision checks of every move since the generated strip found (each Newton
+  // step and each predictor is a straight move of the vertices): valid when no pair of
+  // segments that may touch ever came within d_min (yarn/contact_certificate.hpp).
+  ContactCertificate certificate;
 };
 
 struct StripOptions {
-  int contact_quadrature = 4;
+  StripContactOptions contact;   // as RveOptions: kernel quadrature, barrier d_min, d_hat, scale
   double exclusion_arc = M_PI;   // in yarn radii, as in RveOptions
   double hessian_margin = 0.5;   // in yarn radii, as in RveOptions
 };
@@ -66,25 +71,34 @@ class StripProblem {
   // An empty Hessian of the right layout for evaluate().
   BlockHessian make_hessian() const;
 
+  // Which element Hessians evaluate() replaces by their projection onto the positive
+  // semi-definite cone (negative eigenvalues set to 0): none (the exact Hessian); those of
+  // boundary-yarn joints only (their twist angles are nearly free, 1/200 of the twisting
+  // modulus, and their bend-twist coupling makes them non-convex wherever the soft yarn is bent
+  // away from its rest curvature: measured, the exact Hessian's only negative modes on a
+  // stretched stockinette strip were twist angles of bind-off rows); or all (stretch, joints,
+  // contact pairs: a convex model far from equilibrium, where soft boundary yarn pressed by
+  // contact makes the exact Hessian strongly indefinite).
+  enum class Projection { kNone, kBoundaryJoints, kAll };
+
   // Energy; with grad: the gradient in the unknowns; with hess: the Hessian (its pattern set
   // to the elements present now, with the contact pairs up to hessian_margin beyond reach,
-  // so that it rarely changes); with vertex_grad: dE/dx of every vertex, clamped or not. With
-  // `project`, each element's Hessian (joint, contact pair) is replaced by its projection
-  // onto the positive semi-definite cone (negative eigenvalues set to 0): a convex model for
-  // Newton far from equilibrium, where soft boundary yarn pressed by contact makes the exact
-  // Hessian strongly indefinite.
+  // so that it rarely changes); with vertex_grad: dE/dx of every vertex, clamped or not.
   double evaluate(const StripState& st, Eigen::VectorXd* grad = nullptr, BlockHessian* hess = nullptr,
-                  EnergyParts* parts = nullptr,
-                  std::vector<Eigen::Vector3d>* vertex_grad = nullptr, bool project = false) const;
+                  EnergyParts* parts = nullptr, std::vector<Eigen::Vector3d>* vertex_grad = nullptr,
+                  Projection project = Projection::kNone) const;
 
   // st += alpha dy in the unknowns.
   void apply_step(const Eigen::VectorXd& dy, double alpha, StripState& st) const;
-  // Step filter: the largest alpha in (0, 1] for which no pair of segments that is not
-  // excluded comes closer than a tenth of its present distance along st + t dy, t <= alpha.
+  // Collision filter: the fraction of the straight move from st to st + dy (unknowns) along
+  // which every pair of segments that may touch stays above d_min (CCD; 1: all of it).
   double step_bound(const StripState& st, const Eigen::VectorXd& dy) const;
-  // Certificate: the closest distance between any two segments that are not excluded,
-  // divided by 2r (1 = surfaces touching, 0 = centrelines crossing); 1e300 if none is near.
+  // The same for a move of every vertex from `from` to `to` (a predictor, clamps included).
+  double safe_fraction(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to) const;
+  // The closest distance between any two segments that may touch, divided by 2r (1 = surfaces
+  // touching, 0 = centrelines crossing); +inf if no pair is within 2r.
   double min_distance(const StripState& st) const;
+  const StripContact& contact() const { return contact_; }
   // Re-bases the reference frames on the current tangents (the energy is unchanged).
   void rebase_frames(StripState& st) const;
   // Keeps the frames usable along a long solve without changing the energy at st: every

@@ -3,9 +3,10 @@
 // algorithm as the RVE's (yarn/newton.hpp: exact Hessian, definiteness shift
 // H + mu diag(|H_ii|) raised tenfold until Cholesky succeeds, plain Newton retried after full
 // steps, Armijo backtracking, shift raised when no step decreases the energy; the same
-// relative residual), with two differences for a strip: every line search starts at the step
-// filter's bound (no pair of segments may pass through another along the step), and the
-// Newton system is sparse (CHOLMOD supernodal above `dense_limit` unknowns).
+// relative residual; the RVE's collision filter: every line search starts at 0.9 of the
+// fraction of the step that CCD finds safe, and every accepted step is added to the state's
+// certificate), with two differences for a strip: a projected model far from equilibrium
+// (below), and a sparse Newton system (CHOLMOD supernodal above `dense_limit` unknowns).
 #include <string>
 
 #include "yarn/newton.hpp"

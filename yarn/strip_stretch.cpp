@@ -1,6 +1,7 @@
 #include "yarn/strip_stretch.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace yarnhom::yarn {
@@ -40,6 +41,7 @@ void StripStretch::predict(StripState& st, double from, double to) const {
     if (c[v] < 0) lo = std::max(lo, t);
     if (c[v] > 0) hi = std::min(hi, t);
   }
+  const std::vector<Eigen::Vector3d> before = st.x;
   for (int v = 0; v < P_.strip().size(); ++v) {
     double f;  // -1 .. 1
     if (c[v] != 0) f = c[v];
@@ -48,6 +50,8 @@ void StripStretch::predict(StripState& st, double from, double to) const {
     st.x[v] += (f * D) * axis_;
   }
   place_clamps(st, to);  // exactly where the clamps are (no drift from round-off)
+  // Checked like every other move (it cannot bring two points closer when to > from).
+  add_move(st.certificate, P_.safe_fraction(before, st.x), std::numeric_limits<double>::infinity(), "predictor");
 }
 
 StretchStep StripStretch::measure(const StripState& st, double stretch) const {
@@ -63,12 +67,19 @@ StretchStep StripStretch::measure(const StripState& st, double stretch) const {
   r.force = 0.5 * (r.force_high - r.force_low);
   r.tension = r.force / P_.strip().width;
   r.min_distance = P_.min_distance(st);
+  r.certificate = st.certificate;
   return r;
 }
 
 StretchStep StripStretch::step(StripState& st, double from, double to, const StripSolveOptions& opt) const {
-  if (to != from) predict(st, from, to);
-  else place_clamps(st, to);
+  if (to != from) {
+    predict(st, from, to);
+  } else {
+    const std::vector<Eigen::Vector3d> before = st.x;
+    place_clamps(st, to);
+    if (st.x != before)
+      add_move(st.certificate, P_.safe_fraction(before, st.x), std::numeric_limits<double>::infinity(), "clamps");
+  }
   const StripSolveReport rep = solve_strip(P_, st, opt);
   StretchStep r = measure(st, to);
   r.solve = rep;

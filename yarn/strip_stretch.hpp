@@ -32,7 +32,8 @@ struct StretchStep {
   double tension = 0;                    // N/m: force / nominal width
   double energy = 0;                     // J
   EnergyParts parts;
-  double min_distance = 0;               // certificate: closest segment pair / 2r
+  double min_distance = 0;               // closest segment pair at the equilibrium / 2r
+  ContactCertificate certificate;        // every move since the generated strip (state's)
   StripSolveReport solve;
 };
 

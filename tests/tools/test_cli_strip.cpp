@@ -40,16 +40,19 @@ std::string args(const std::string& clamp = "0.0009") {
   return " --direction wale --size 0.0035,0.0027 --clamp " + clamp + " --no-plots --threads 1";
 }
 
-// force.csv without the timing columns (seconds, assembly_seconds, factor_seconds).
+// force.csv without its timing columns (those whose header ends in "seconds").
 std::vector<std::string> curve(const std::string& csv_path) {
   std::ifstream in(csv_path);
   std::string line;
   std::vector<std::string> rows;
+  std::vector<bool> timing;
   while (std::getline(in, line)) {
     std::stringstream ls(line);
     std::string cell, kept;
-    for (int c = 0; std::getline(ls, cell, ','); ++c)
-      if (c < 14 || c > 16) kept += cell + ",";
+    for (size_t c = 0; std::getline(ls, cell, ','); ++c) {
+      if (rows.empty()) timing.push_back(cell.size() >= 7 && cell.compare(cell.size() - 7, 7, "seconds") == 0);
+      if (c >= timing.size() || !timing[c]) kept += cell + ",";
+    }
     rows.push_back(kept);
   }
   return rows;

@@ -13,7 +13,6 @@
 #include "tests/yarn/test_support.hpp"
 #include "yarn/generate.hpp"
 #include "yarn/hash_grid.hpp"
-#include "yarn/relax.hpp"
 #include "yarn/strip_generate.hpp"
 #include "yarn/strip_io.hpp"
 #include "yarn/strip_stretch.hpp"
@@ -28,29 +27,27 @@ Pattern tiny_knit() {
   return generate_stockinette({});
 }
 
-// The relaxed tile a strip is made of (relaxed once per pattern and cached: relaxing is the
-// slow part of these tests).
-const Pattern& relaxed(const std::string& name) {
-  static std::map<std::string, Pattern> cache;
+// The relaxed tile a strip is made of: the stress-free period, as the command uses (relaxed
+// once per pattern and cached: relaxing is the slow part of these tests).
+const StripTile& relaxed(const std::string& name) {
+  static std::map<std::string, StripTile> cache;
   auto it = cache.find(name);
   if (it == cache.end()) {
-    SolveOptions o;
-    o.tolerance = 1e-12;
     const Pattern p = name == "knit" ? tiny_knit() : builtin_pattern(name);
-    it = cache.emplace(name, relax_pattern(p, Material{}, nullptr, o)).first;
+    it = cache.emplace(name, rest_tile(p, Material{})).first;
   }
   return it->second;
 }
 
 Strip small_strip(const std::string& pattern, StripAxis axis, double tiles_across = 3.2, double tiles_along = 4.5) {
-  const Pattern& p = relaxed(pattern);
+  const StripTile& t = relaxed(pattern);
   StripSpec spec;
   spec.axis = axis;
-  const double ex = (axis == StripAxis::kCourse ? tiles_along : tiles_across) * p.px;
-  const double ey = (axis == StripAxis::kCourse ? tiles_across : tiles_along) * p.py;
+  const double ex = (axis == StripAxis::kCourse ? tiles_along : tiles_across) * t.lattice(0, 0);
+  const double ey = (axis == StripAxis::kCourse ? tiles_across : tiles_along) * t.lattice(1, 1);
   spec.length = axis == StripAxis::kCourse ? ex : ey;
   spec.width = axis == StripAxis::kCourse ? ey : ex;
-  return generate_strip(p, spec);
+  return generate_strip(t, spec);
 }
 
 std::string temp_dir(const std::string& name) {
@@ -78,42 +75,30 @@ TEST(HashGrid, FindsExactlyTheOverlappingPairs) {
   EXPECT_GT(brute.size(), 100u);
 }
 
-TEST(SegmentDistance, MatchesDenseSampling) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> U(-1, 1);
-  for (int trial = 0; trial < 300; ++trial) {
-    Vec12 q;
-    for (int i = 0; i < 12; ++i) q[i] = U(rng);
-    if (trial % 3 == 0) q.segment<3>(9) = q.segment<3>(6) + 0.7 * (q.segment<3>(3) - q.segment<3>(0));  // parallel
-    if (trial % 7 == 0) q.segment<3>(3) = q.segment<3>(0);                                               // a point
-    double best = 1e300;
-    const int N = 400;
-    for (int i = 0; i <= N; ++i)
-      for (int j = 0; j <= N; j += 1) {
-        const double s = double(i) / N, t = double(j) / N;
-        const Eigen::Vector3d d = (1 - s) * q.segment<3>(0) + s * q.segment<3>(3) - (1 - t) * q.segment<3>(6) - t * q.segment<3>(9);
-        best = std::min(best, d.norm());
-      }
-    const double d = segment_distance(q);
-    EXPECT_LE(d, best + 1e-12) << "trial " << trial;
-    EXPECT_GE(d, best - 2e-2 * 2.0 / N * 10) << "trial " << trial;  // sampling resolution
-  }
-}
-
-TEST(StripContact, StepBoundKeepsSegmentsFromCrossing) {
-  // Segment b moves straight through segment a: the unfiltered step crosses, the filtered one
-  // stops short with at least a tenth of the distance left at every instant.
-  const StripContact c(1e-3, 1.0);
-  Vec12 q, dq = Vec12::Zero();
-  q << -1, 0, 0, 1, 0, 0, 0, -1, 0.5, 0, 1, 0.5;
-  dq.segment<3>(6) = dq.segment<3>(9) = Eigen::Vector3d(0, 0, -1);
-  const double t = c.step_bound(q, dq);
+TEST(StripContact, IsTheRvesKernelPlusBarrierAndItsFilterStopsACrossing) {
+  // Segment b moves straight through segment a: CCD stops the move before d_min, and the
+  // energy is the kernel plus the barrier, infinite at d_min.
+  const double r = 1e-3, kc = 1e6 * r;
+  const StripContact c(r, kc);
+  EXPECT_DOUBLE_EQ(c.dmin(), 0.25 * 2 * r);
+  Vec12 q0, q1;
+  q0 << -1, 0, 0, 1, 0, 0, 0, -1, 0.5, 0, 1, 0.5;
+  q0 *= 2 * r;
+  q1 = q0;
+  for (int k : {8, 11}) q1[k] = -q0[k];
+  const double t = c.safe_fraction(q0, q1);
   EXPECT_LT(t, 0.5);
-  for (int i = 0; i <= 100; ++i) {
-    const Vec12 qt = q + (t * i / 100.0) * dq;
-    EXPECT_GE(segment_distance(qt), 0.1 * 0.5 - 1e-12);
-  }
-  EXPECT_EQ(c.step_bound(q, Vec12::Zero()), 1.0);
+  for (int i = 0; i <= 100; ++i) EXPECT_GT(pair_distance(q0 + (t * i / 100.0) * (q1 - q0)), c.dmin() * (1 - 1e-6));
+  EXPECT_EQ(c.safe_fraction(q0, q0), 1.0);
+  // Energy parts against the free functions.
+  Vec12 q = q0;
+  q[8] = q[11] = 0.3 * 2 * r;  // centrelines 0.3 x 2r apart: kernel and barrier both active
+  const StripContact::Energy e = c.energy(q, 2 * r, 2 * r, nullptr, nullptr);
+  EXPECT_DOUBLE_EQ(e.kernel, segment_contact_energy(q, 2 * r, 2 * r, {r, kc, 4}, nullptr, nullptr));
+  EXPECT_DOUBLE_EQ(e.barrier, segment_barrier_energy(q, {0.5 * r, r, kc * 4 * r * r}));
+  EXPECT_GT(e.barrier, 0);
+  q[8] = q[11] = 0.2 * 2 * r;
+  EXPECT_FALSE(std::isfinite(c.energy(q, 2 * r, 2 * r, nullptr, nullptr).total()));
 }
 
 TEST(BlockHessian, EqualsTripletAssembly) {
@@ -222,12 +207,14 @@ TEST(StripGenerate, KeepsEveryVertexOfTheTilingInsideTheStrip) {
   // rectangle on a row of the strip must be in the strip, as itself; the strip's own pattern
   // vertices must all be distinct.
   for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
-    const Pattern& p = relaxed("knit");
+    const StripTile& tile = relaxed("knit");
+    const Pattern& p = tile.pattern;
+    const Eigen::Matrix2d& A = tile.lattice;
     const Strip s = small_strip("knit", axis);
     const Topology t = topology(p);
     std::set<std::tuple<int, int, int>> in_strip;
     for (const auto& src : s.source)
-      if (src.vertex >= 0) EXPECT_TRUE(in_strip.insert({src.vertex, src.cell_x, src.cell_y}).second) << "duplicate";
+      if (src.vertex >= 0) { EXPECT_TRUE(in_strip.insert({src.vertex, src.cell_x, src.cell_y}).second) << "duplicate"; }
     // Per pattern vertex: its cell offset from its yarn's first vertex, and the yarn's mean y.
     std::vector<Eigen::Vector2i> off(p.size());
     std::vector<double> centre(t.yarns.size(), 0);
@@ -235,7 +222,7 @@ TEST(StripGenerate, KeepsEveryVertexOfTheTilingInsideTheStrip) {
       Eigen::Vector2i c = Eigen::Vector2i::Zero();
       for (int v : t.yarns[y]) {
         off[v] = c;
-        centre[y] += (p.x[v][1] + c[1] * p.py) / t.yarns[y].size();
+        centre[y] += (p.x[v][1] + (A * c.cast<double>())[1]) / t.yarns[y].size();
         c += t.offset[v];
       }
     }
@@ -244,9 +231,10 @@ TEST(StripGenerate, KeepsEveryVertexOfTheTilingInsideTheStrip) {
     for (int v = 0; v < p.size(); ++v)
       for (int i = -20; i <= 20; ++i)
         for (int j = -20; j <= 20; ++j) {
-          const Eigen::Vector3d x = p.x[v] + Eigen::Vector3d(i * p.px, j * p.py, 0);
+          const Eigen::Vector2d o = A * Eigen::Vector2d(i, j);
+          const Eigen::Vector3d x = p.x[v] + Eigen::Vector3d(o[0], o[1], 0);
           if (std::abs(x[0]) > hx || std::abs(x[1]) > hy) continue;
-          const double row_centre = centre[t.yarn_of[v]] + (j - off[v][1]) * p.py;
+          const double row_centre = centre[t.yarn_of[v]] + (j - off[v][1]) * A(1, 1);
           if (std::abs(row_centre) > hy) continue;
           ++inside;
           EXPECT_TRUE(in_strip.count({v, i, j})) << "vertex " << v << " of cell (" << i << ", " << j << ") lost";
@@ -267,7 +255,7 @@ TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
     std::vector<Eigen::Vector3d> vg;
     Eigen::VectorXd g;
     P.evaluate(st, &g, nullptr, nullptr, &vg);
-    const double EA = P.stretch_stiffness(), mx = 1.5 * relaxed(pat).px, my = 2.5 * relaxed(pat).py;
+    const double EA = P.stretch_stiffness(), mx = 1.5 * relaxed(pat).lattice(0, 0), my = 2.5 * relaxed(pat).lattice(1, 1);
     int checked = 0, backward = 0;
     double worst = 0, edge = 0;
     for (int v = 3; v + 3 < s.size(); ++v) {
@@ -299,8 +287,8 @@ TEST(StripGenerate, BoundaryYarnIsStressFreeWithOneTwoHundredthOfTheModuli) {
     EXPECT_EQ(s.connector_joint[v], s.connector_edge[v - 1] || s.connector_edge[v]) << v;
   for (int v = 0; v < s.size(); ++v)
     if (s.source[v].vertex < 0) {
-      if (v > 0) EXPECT_TRUE(s.connector_edge[v - 1]);
-      if (v < s.num_edges()) EXPECT_TRUE(s.connector_edge[v]);
+      if (v > 0) { EXPECT_TRUE(s.connector_edge[v - 1]); }
+      if (v < s.num_edges()) { EXPECT_TRUE(s.connector_edge[v]); }
     }
   // Stress-free: at its initial shape the boundary yarn stores no rod energy, whatever its
   // moduli. Moduli: perturb the shape; with the boundary yarn switched off (scale ~0), at
@@ -330,15 +318,54 @@ TEST(StripGenerate, BoundaryYarnIsStressFreeWithOneTwoHundredthOfTheModuli) {
   EXPECT_NEAR((Es - En) / (Ef - En), 1.0 / 200, 1e-9);
 }
 
+TEST(StripGenerate, StressFreeTileCarriesNoBulkTension) {
+  // The generated strip (before any solve) is the stress-free tile repeated: its interior is
+  // the periodic equilibrium, and what a clamp band holds is the traction across the band's
+  // inner edge plus what the selvedges and the boundary yarn add. Strips 3 and 5 tiles wide
+  // (odd, so that their edges are the same ones one tile further out) differ only by two
+  // tiles of bulk: (F5 - F3) / (W5 - W3) is the bulk tension, 0 for the stress-free tile
+  // (s = 0 of relax_tile). The pre-stressed tile (the pattern's own period, free_period
+  // false) shows what the check sees when it fails: a bulk tension of a few N/m.
+  for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+    auto bulk = [&](const StripTile& tile) {
+      const double along = axis == StripAxis::kCourse ? tile.lattice(0, 0) : tile.lattice(1, 1);
+      const double across = axis == StripAxis::kCourse ? tile.lattice(1, 1) : tile.lattice(0, 0);
+      double F[2], W[2];
+      for (int k = 0; k < 2; ++k) {
+        StripSpec spec;
+        spec.axis = axis;
+        spec.length = 6 * along;
+        spec.width = (3 + 2 * k) * across;
+        const Strip s = generate_strip(tile, spec);
+        const StripProblem P(s, Material{}, clamp_flags(s, 1.02 * along));
+        const StripStretch S(P, s.long_axis(), s.x);
+        F[k] = S.measure(P.initial_state(), 1.0).force;
+        W[k] = spec.width;
+      }
+      return (F[1] - F[0]) / (W[1] - W[0]);
+    };
+    const Pattern p = tiny_knit();
+    RestOptions own;
+    own.free_period = false;
+    const double free_bulk = bulk(relaxed("knit")), stressed_bulk = bulk(rest_tile(p, Material{}, own));
+    EXPECT_GT(std::abs(stressed_bulk), 0.5) << to_string(axis) << ": N/m, the check can see a pre-stress";
+    EXPECT_LT(std::abs(free_bulk), 1e-4 * std::abs(stressed_bulk)) << to_string(axis) << ": " << free_bulk << " N/m";
+  }
+}
+
 TEST(StripGenerate, NothingIntersectsAtRest) {
   // Certificate: no two segments that may touch are closer than half the contact distance
-  // (the tile's own contacts sit near 0.84 of it, pressed by the penalty).
+  // (the tile's own contacts sit near 0.84 of it, pressed by the penalty), and the generated
+  // strip starts a valid topology certificate (every pair above the barrier's d_min).
   for (const std::string& pat : {std::string("knit"), std::string("plain"), std::string("basket")})
     for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
       const Strip s = small_strip(pat, axis);
       const StripProblem P(s, Material{}, std::vector<signed char>(s.size(), 0));
-      const double d = P.min_distance(P.initial_state());
+      const StripState st = P.initial_state();
+      const double d = P.min_distance(st);
       EXPECT_GT(d, 0.5) << pat << " " << to_string(axis);
+      EXPECT_TRUE(st.certificate.valid) << st.certificate.failure;
+      EXPECT_NEAR(st.certificate.min_distance, d * 2 * s.radius, 1e-15);
       EXPECT_LT(d, 1.0) << pat << ": yarns are in contact (the check can fail)";
     }
 }
@@ -351,4 +378,7 @@ TEST(StripGenerate, RefusesWhatItCannotBuild) {
   spec.width = 1e-2;
   spec.length = 1e-4;
   EXPECT_THROW(generate_strip(relaxed("knit"), spec), std::invalid_argument);  // shorter than a loop
+  StripTile sheared = relaxed("knit");
+  sheared.lattice(1, 0) = 1e-4;
+  EXPECT_THROW(generate_strip(sheared, StripSpec{}), std::invalid_argument);
 }
