@@ -113,6 +113,9 @@ void run(const StripOpts& o) {
   if (o.direction != "course" && o.direction != "wale")
     throw std::invalid_argument("--direction: 'course' or 'wale', got '" + o.direction + "'");
   const std::vector<double> stretches = parse_stretches(o.stretch);
+  if (!(2 * o.clamp < size[1]))
+    throw std::invalid_argument("--clamp " + std::to_string(o.clamp) + ": the two clamp bands cover the whole strip (" +
+                                "each must be shorter than half the length, " + std::to_string(size[1]) + " m)");
   const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::read_material(o.material);
 
   yarn::StripSpec spec;

@@ -119,6 +119,9 @@ TEST(CliStrip, BadOptionsAreNamed) {
   r = yarnhom::test::run_cli("strip plain --size 0.05 -o " + d / "x");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("--size"), std::string::npos) << r.out;
+  r = yarnhom::test::run_cli("strip plain --clamp 0.06 -o " + d / "x");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("--clamp"), std::string::npos) << r.out;
   r = yarnhom::test::run_cli("strip no_such_pattern -o " + d / "x");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("no_such_pattern"), std::string::npos) << r.out;

@@ -266,6 +266,11 @@ TEST(StripStretch, ResumingFromAStepFileGivesTheSameForceCurve) {
   std::filesystem::remove(path);
   EXPECT_EQ(last.force, first.steps.back().force);
   EXPECT_EQ(last.stretch, 1.05);
+  // The topology certificate is carried on: a resumed run certifies its whole path.
+  EXPECT_TRUE(resumed.certificate.valid) << resumed.certificate.failure;
+  EXPECT_EQ(resumed.certificate.moves, first.state.certificate.moves);
+  EXPECT_EQ(resumed.certificate.min_distance, first.state.certificate.min_distance);
+  EXPECT_EQ(resumed.certificate.dmin, R.P.contact().dmin());
   StripState st = resumed;
   const StretchStep third = R.S.step(st, 1.05, 1.1, solve_options());
   for (size_t k = 0; k < 2; ++k) EXPECT_EQ(first.steps[k].force, R.result.steps[k].force) << "deterministic";
