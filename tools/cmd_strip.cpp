@@ -22,8 +22,11 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/file_checks.hpp"
+#include "tools/child_process.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
+#include "tools/python_env.hpp"
 #include "yarn/generate.hpp"
 #include "yarn/strip_generate.hpp"
 #include "yarn/strip_io.hpp"
@@ -35,13 +38,16 @@ namespace fs = std::filesystem;
 
 struct StripOpts {
   std::string pattern, out, size = "0.05,0.10", direction = "course", stretch = "1.0:1.7:0.05", material;
-  double clamp = 0.005, connector_scale = 1.0 / 200, tolerance = 1e-10;
+  double clamp = 0.005, connector_scale = 1.0 / 200, tolerance = 1e-10, rest_time_limit = 300;
   int max_iterations = 300, threads = 0;
   bool no_bind_off = false, restart = false, no_plots = false, verbose = false;
 };
 
 yarn::Pattern load_pattern(const std::string& what) {
-  if (fs::exists(what)) return yarn::read_pyp(what);
+  if (fs::exists(what)) {
+    check_input_file(what, "PATTERN");  // a regular file (a FIFO would block the reader)
+    return yarn::read_pyp(what);
+  }
   if (yarn::is_builtin_pattern(what)) return yarn::builtin_pattern(what);
   std::string names;
   for (const auto& n : yarn::builtin_pattern_names()) names += (names.empty() ? "" : ", ") + n;
@@ -56,8 +62,9 @@ std::vector<double> parse_stretches(const std::string& text) {
   const double a = parse_numbers(text.substr(0, c1), "--stretch")[0];
   const double b = parse_numbers(text.substr(c1 + 1, c2 - c1 - 1), "--stretch")[0];
   const double d = parse_numbers(text.substr(c2 + 1), "--stretch")[0];
-  if (!(a >= 1.0 && b >= a && d > 0))
-    throw std::invalid_argument("--stretch: need 1 <= FROM <= TO and STEP > 0 (stretch 1 = as generated), got '" + text + "'");
+  if (!(a >= 1.0 && b >= a && b <= 10.0 && d > 0))
+    throw std::invalid_argument("--stretch: need 1 <= FROM <= TO <= 10 and STEP > 0 (stretch 1 = as generated), got '" +
+                                text + "'");
   std::vector<double> s = {1.0};
   for (int k = 0;; ++k) {
     const double v = a + k * d;
@@ -107,6 +114,7 @@ void run(const StripOpts& o) {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   if (o.threads > 0) omp_set_num_threads(o.threads);
+  check_output_folder(o.out, "-o");  // before any work
   const std::vector<double> size = parse_numbers(o.size, "--size");
   if (size.size() != 2 || !(size[0] > 0 && size[1] > 0))
     throw std::invalid_argument("--size: expected WIDTH,LENGTH in metres, both positive (e.g. 0.05,0.10)");
@@ -147,12 +155,26 @@ void run(const StripOpts& o) {
     fs::remove(dir / "force.csv");
     fs::remove(dir / "settings.txt");
   }
-  fs::create_directories(dir / "steps");
-  fs::create_directories(dir / "centrelines");
-  // Temporary files of a run that was killed while writing (AtomicOutput's "*.partial-PID").
+  for (const fs::path& sub : {dir, dir / "steps", dir / "centrelines"}) {
+    check_output_folder(sub.string(), "-o");
+    fs::create_directories(sub);
+  }
+  // Temporary files of runs killed while writing (AtomicOutput's "FILE.partial-PID"): those of
+  // processes that no longer run are removed, with a line.
   for (const fs::path& sub : {dir, dir / "steps", dir / "centrelines"})
-    for (const auto& e : fs::directory_iterator(sub))
-      if (e.path().filename().string().find(".partial-") != std::string::npos) fs::remove(e.path());
+    for (const auto& e : fs::directory_iterator(sub)) {
+      const std::string name = e.path().string();
+      const size_t at = name.rfind(".partial-");
+      if (at == std::string::npos) continue;
+      for (const std::string& t : AtomicOutput::remove_stale_temporaries(name.substr(0, at)))
+        std::fprintf(stderr, "yarnhom: removed %s, a temporary file left by an interrupted run\n", t.c_str());
+    }
+  // The files written below must be writable regular files (not folders, devices, FIFOs) and
+  // none of the inputs.
+  std::vector<std::string> inputs;
+  if (fs::exists(o.pattern)) inputs.push_back(o.pattern);
+  if (!o.material.empty()) inputs.push_back(o.material);
+  for (const char* f : {"settings.txt", "force.csv", "strip.obj"}) check_output_file((dir / f).string(), inputs, "-o");
   if (fs::exists(dir / "settings.txt")) {
     const std::string old = read_text(dir / "settings.txt");
     if (old != settings) {
@@ -170,7 +192,9 @@ void run(const StripOpts& o) {
   // The strip: the tile relaxed at rest (its stored rest state is the material's, its
   // geometry not an equilibrium), tiled, cut, joined.
   std::fprintf(stderr, "yarnhom strip: relaxing the tile of '%s' at rest (stress-free period)\n", raw.name.c_str());
-  const yarn::StripTile tile = yarn::rest_tile(raw, mat);
+  yarn::RestOptions rest;
+  rest.max_seconds = o.rest_time_limit;
+  const yarn::StripTile tile = yarn::rest_tile(raw, mat, rest);
   yarn::Strip strip = yarn::generate_strip(tile, spec);
   const std::vector<signed char> clamp = yarn::clamp_flags(strip, o.clamp);
   const yarn::StripProblem P(strip, mat, clamp);
@@ -268,14 +292,17 @@ void run(const StripOpts& o) {
   std::printf("output      %s (force.csv, steps/, centrelines/)\n", o.out.c_str());
 
   if (!o.no_plots) {
-    const std::string py = find_python("matplotlib, numpy");
+    const std::string py = find_python();
     const std::string script = (fs::path(scripts_dir()) / "plot" / "plot_strip.py").string();
     if (py.empty() || !fs::exists(script)) {
-      std::fprintf(stderr, "yarnhom strip: no python3 with matplotlib (or no %s): no PNGs; the numbers are in %s\n",
+      std::fprintf(stderr,
+                   "yarnhom strip: no python3 with matplotlib, h5py and numpy (tried $YARNHOM_PYTHON, /usr/bin/python3, "
+                   "python3), or no %s: no PNGs; the numbers are in %s\n",
                    script.c_str(), o.out.c_str());
     } else {
-      const std::string cmdline = "'" + py + "' '" + script + "' '" + o.out + "'";
-      if (std::system(cmdline.c_str()) != 0) std::fprintf(stderr, "yarnhom strip: the plot script failed (%s)\n", cmdline.c_str());
+      // A child without a shell that dies with this process (tools/child_process.hpp).
+      const int rc = run_child({py, script, o.out});
+      if (rc != 0) std::fprintf(stderr, "yarnhom strip: the plot script %s failed (exit status %d)\n", script.c_str(), rc);
       else std::printf("pictures    strip.png, deformed.png, force.png\n");
     }
   }
@@ -305,13 +332,21 @@ void register_strip(CLI::App& app) {
   cmd->add_option("--stretch", o->stretch,
                   "FROM:TO:STEP load steps as clamp separation / initial (default 1.0:1.7:0.05); the strip is always "
                   "relaxed at 1.0 first");
-  cmd->add_option("--clamp", o->clamp, "Clamp band at each short end, metres (default 0.005): every vertex within it is held");
-  cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's (default 1/200)");
+  cmd->add_option("--clamp", o->clamp, "Clamp band at each short end, metres (default 0.005): every vertex within it is held")
+      ->check(finite_positive());
+  cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's, in (0, 1] (default 1/200)")
+      ->check(finite_range(1e-12, 1.0, "in (0, 1]"));
   cmd->add_flag("--no-bind-off", o->no_bind_off, "Knits: no boundary course above and below (the edges may unravel)");
-  cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(CLI::ExistingFile);
-  cmd->add_option("--tolerance", o->tolerance, "Relative residual each load step converges to (default 1e-10)");
-  cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations per load step at most (default 300)");
-  cmd->add_option("--threads", o->threads, "Threads for the assembly (default: all cores)");
+  cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(existing_regular_file());
+  cmd->add_option("--tolerance", o->tolerance, "Relative residual each load step converges to (default 1e-10)")
+      ->check(finite_range(1e-300, 0.1, "a relative residual in (0, 0.1]"));
+  cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations per load step at most (default 300)")
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--threads", o->threads, "Threads for the assembly (0 or absent: all cores)")->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--rest-time-limit", o->rest_time_limit,
+                  "Wall-clock limit of the tile's rest relaxation in seconds, 0: none (default 300; the paper's "
+                  "patterns relax in seconds to a minute)")
+      ->check(finite_non_negative());
   cmd->add_flag("--restart", o->restart, "Discard what the run folder holds and start again");
   cmd->add_flag("--no-plots", o->no_plots, "Write no PNGs");
   cmd->add_flag("--verbose", o->verbose, "One line per Newton iteration on stderr");

@@ -122,6 +122,29 @@ TEST(CliStrip, BadOptionsAreNamed) {
   r = yarnhom::test::run_cli("strip plain --clamp 0.06 -o " + d / "x");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("--clamp"), std::string::npos) << r.out;
+  // Validated like every command (tools/cli_util.hpp): non-finite numbers, an output that is
+  // not a folder, a pattern that is not a regular file, all refused before any work.
+  r = yarnhom::test::run_cli("strip plain --clamp nan -o " + d / "x");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("--clamp"), std::string::npos) << r.out;
+  r = yarnhom::test::run_cli("strip plain --tolerance inf -o " + d / "x");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("--tolerance"), std::string::npos) << r.out;
+  r = yarnhom::test::run_cli("strip plain --size 0.05,nan -o " + d / "x");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.out.find("--size"), std::string::npos) << r.out;
+  {
+    std::ofstream(d / "file") << "not a folder";
+    r = yarnhom::test::run_cli("strip plain -o " + d / "file");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("file"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("-o"), std::string::npos) << r.out;
+    fs::create_directories(d / "folder.pyp");
+    r = yarnhom::test::run_cli("strip " + d / "folder.pyp" + " -o " + d / "y");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.out.find("folder.pyp"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(d / "y")) << "nothing written for a refused input";
+  }
   r = yarnhom::test::run_cli("strip no_such_pattern -o " + d / "x");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("no_such_pattern"), std::string::npos) << r.out;

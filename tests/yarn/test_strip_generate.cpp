@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <set>
@@ -257,7 +258,8 @@ TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
     P.evaluate(st, &g, nullptr, nullptr, &vg);
     const double EA = P.stretch_stiffness(), mx = 1.5 * relaxed(pat).lattice(0, 0), my = 2.5 * relaxed(pat).lattice(1, 1);
     int checked = 0, backward = 0;
-    double worst = 0, edge = 0;
+    double worst = 0, edge = 0, reaction = 0;
+    const Topology topo = topology(relaxed(pat).pattern);
     for (int v = 3; v + 3 < s.size(); ++v) {
       bool yarn = true;
       for (int k = -3; k <= 3; ++k) yarn = yarn && !s.connector_joint[v + k];
@@ -266,11 +268,24 @@ TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
         continue;
       ++checked;
       backward += s.source[v + 1].cell_x < s.source[v].cell_x;
+      // The RVE pins the first vertex of yarn 0 (translation) and the first vertex of every
+      // other yarn along its stored tangent (slide_constraint, docs/rve.md): the tile is an
+      // equilibrium up to those constraints' reactions, which a strip (nothing pinned) sees as
+      // residual forces there. Measured with hylc-calibrated: 7.4e-4 EA on the plain weave (its
+      // discrete yarns would slide along themselves), 0 on the knit. Everywhere else the
+      // strip's interior is the tile's equilibrium exactly.
+      const int src = s.source[v].vertex;
+      if (src == topo.yarns[topo.yarn_of[src]][0]) {
+        reaction = std::max(reaction, vg[v].norm() / EA);
+        continue;
+      }
       worst = std::max({worst, vg[v].norm() / EA, std::abs(g[P.theta_index(v)]) / (EA * s.radius)});
     }
+    std::printf("%s: largest slide-constraint reaction %.3g EA\n", pat.c_str(), reaction);
     EXPECT_GT(checked, 20) << pat;
     EXPECT_GT(backward, 0) << pat << ": backward rows are checked too";
     EXPECT_LT(worst, 1e-9) << pat;
+    if (pat == "knit") { EXPECT_LT(reaction, 1e-9) << "the knit's pinned vertices carry no reaction"; }
     EXPECT_GT(edge, 1e-4) << pat << ": the edges are not in equilibrium (the check can fail)";
   }
 }
@@ -325,7 +340,8 @@ TEST(StripGenerate, StressFreeTileCarriesNoBulkTension) {
   // (odd, so that their edges are the same ones one tile further out) differ only by two
   // tiles of bulk: (F5 - F3) / (W5 - W3) is the bulk tension, 0 for the stress-free tile
   // (s = 0 of relax_tile). The pre-stressed tile (the pattern's own period, free_period
-  // false) shows what the check sees when it fails: a bulk tension of a few N/m.
+  // false) shows what the check sees when it fails: a bulk tension of 0.25-0.27 N/m with
+  // hylc-calibrated (-4.5..-3 N/m with the 10x stiffer yarnhom-2025).
   for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
     auto bulk = [&](const StripTile& tile) {
       const double along = axis == StripAxis::kCourse ? tile.lattice(0, 0) : tile.lattice(1, 1);
@@ -348,7 +364,9 @@ TEST(StripGenerate, StressFreeTileCarriesNoBulkTension) {
     RestOptions own;
     own.free_period = false;
     const double free_bulk = bulk(relaxed("knit")), stressed_bulk = bulk(rest_tile(p, Material{}, own));
-    EXPECT_GT(std::abs(stressed_bulk), 0.5) << to_string(axis) << ": N/m, the check can see a pre-stress";
+    std::printf("%s: bulk tension of the generated strip, stress-free tile %.3g N/m, pre-stressed tile %.3g N/m\n",
+                to_string(axis), free_bulk, stressed_bulk);
+    EXPECT_GT(std::abs(stressed_bulk), 0.1) << to_string(axis) << ": N/m, the check can see a pre-stress";
     EXPECT_LT(std::abs(free_bulk), 1e-4 * std::abs(stressed_bulk)) << to_string(axis) << ": " << free_bulk << " N/m";
   }
 }
