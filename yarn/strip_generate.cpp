@@ -315,13 +315,20 @@ Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
     note_port(exit_end[i], dir, order[i].sign);
     note_port(exit_start[i], dir, -order[i].sign);
   }
-  // A point at column `col` of (dir, side) and across coordinate `across`, in the mid-plane.
-  auto at = [&](int dir, int side, double across) {
-    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+  // A point at the column of (dir, side), across coordinate `across`, height z.
+  auto at = [&](int dir, int side, double across, double z) {
+    Eigen::Vector3d q(0, 0, z);
     q[dir] = side * column[dir][side > 0 ? 1 : 0];
     q[1 - dir] = across;
     return q;
   };
+  // Height of a connector's run along its column: successive connectors of one side alternate
+  // between +3r and -3r (3 x 2r apart). Rows are ordered by their centre lines, but the ports'
+  // across coordinates need not be monotone (a slip-stitch row's end sits beyond the next
+  // row's: measured on honeycomb and cartridge belt rib, whose connectors crossed each other
+  // in the mid-plane); at alternating heights two connectors of one side never meet.
+  int on_side[2][2] = {{0, 0}, {0, 0}};
+  auto level = [&](int dir, int side) { return (on_side[dir][side > 0 ? 1 : 0]++ % 2 == 0 ? 3.0 : -3.0) * r; };
 
   // Assemble the path.
   std::vector<PathVertex> path;
@@ -344,18 +351,25 @@ Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
     // Straight out from A's port to its column, along the column(s), straight in to B's port:
     // every turn a right angle, so the connector never folds back onto itself.
     std::vector<Eigen::Vector3d> corners;
+    const double z = level(A.dir, A.side);
+    // Up (or down) to the connector's height at the port first: two ports of one side at the
+    // same across coordinate then have their legs 6r apart, not converging in the mid-plane.
+    auto raised = [&](const Eigen::Vector3d& x) { return Eigen::Vector3d(x[0], x[1], z); };
     corners.push_back(A.x);
-    corners.push_back(at(A.dir, A.side, A.x[1 - A.dir]));
+    corners.push_back(raised(A.x));
+    corners.push_back(at(A.dir, A.side, A.x[1 - A.dir], z));
     if (A.dir != B.dir) {
-      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      Eigen::Vector3d c(0, 0, z);
       c[A.dir] = A.side * column[A.dir][A.side > 0 ? 1 : 0];
       c[B.dir] = B.side * column[B.dir][B.side > 0 ? 1 : 0];
       corners.push_back(c);
     }
-    corners.push_back(at(B.dir, B.side, B.x[1 - B.dir]));
+    corners.push_back(at(B.dir, B.side, B.x[1 - B.dir], z));
+    corners.push_back(raised(B.x));
     corners.push_back(B.x);
     std::vector<Eigen::Vector3d> pts;
-    for (size_t c = 0; c + 1 < corners.size(); ++c) leg(corners[c], corners[c + 1], h, pts);
+    for (size_t c = 0; c + 1 < corners.size(); ++c)
+      if ((corners[c + 1] - corners[c]).norm() > 1e-9 * h) leg(corners[c], corners[c + 1], h, pts);
     pts.pop_back();  // B.x is the continuation's last vertex, added below
     for (const Eigen::Vector3d& q : pts) path.push_back({q, StripSource{}, -1, 0, false});
     for (auto it = exit_start[i + 1].rbegin(); it != exit_start[i + 1].rend(); ++it) path.push_back(*it);
