@@ -6,7 +6,8 @@
 //
 // A. Killed produce: `produce PATTERN --preset quick --terms 0,02` killed (SIGKILL) at a random
 //    moment of an uninterrupted run's duration, then rerun to completion; the resumed dataset
-//    is compared with the uninterrupted one, every array bit for bit. Also counts the
+//    is compared with the uninterrupted one, every array bit for bit (and the samples read back,
+//    and the kills that cut a checkpoint record, are counted from the rerun's summary). Also counts the
 //    temporaries a kill left and whether the rerun removed them.
 // B. Clobbering: outputs that are special files (FIFO, socket, character device when we may make
 //    one), folders, links, or one of the command's inputs; counts what was replaced or changed.
@@ -29,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -148,6 +150,7 @@ void campaign_resume(const std::string& pattern, int kills, std::mt19937_64& rng
   const yarnhom::Dataset reference = yarnhom::read_dataset(ref);
   std::printf("A. killed produce: reference run %.1f s; %d kills at uniform random moments of it\n", T, kills);
   int wrong = 0, failed = 0, finished_before_kill = 0, temporaries_left = 0, temporaries_after_rerun = 0, resumed_runs = 0;
+  int resumed_samples = 0, cut_records = 0;
   std::uniform_real_distribution<double> when(0.02, 1.0);
   for (int k = 0; k < kills; ++k) {
     const std::string out = (dir / ("run" + std::to_string(k) + ".h5")).string();
@@ -181,16 +184,26 @@ void campaign_resume(const std::string& pattern, int kills, std::mt19937_64& rng
       continue;
     }
     resumed_runs += had_checkpoint;
+    // What the rerun read back: "resumed     N samples ... (its last record, cut by the kill ...)".
+    int samples = 0;
+    const size_t at_resumed = r.out.find("\nresumed ");
+    if (at_resumed != std::string::npos) samples = std::atoi(r.out.c_str() + at_resumed + 9);
+    const bool cut = r.out.find("cut by the kill") != std::string::npos;
+    resumed_samples += samples;
+    cut_records += cut;
     std::string why;
     const bool same = same_bits(reference, yarnhom::read_dataset(out), &why);
     wrong += !same;
-    std::printf("   kill %2d at %5.1f s%s: %s\n", k, at, had_checkpoint ? " (resumed from its checkpoint)" : "",
-                same ? "identical" : ("DIFFERENT: " + why).c_str());
+    std::string how;
+    if (had_checkpoint) how = " (checkpoint: " + std::to_string(samples) + " samples resumed" + (cut ? ", a record cut" : "") + ")";
+    std::printf("   kill %2d at %5.1f s%s: %s\n", k, at, how.c_str(), same ? "identical" : ("DIFFERENT: " + why).c_str());
     fs::remove(out);
   }
-  std::printf("A. result: %d wrong resumed datasets of %d kills (%d resumed from a checkpoint, %d finished before "
-              "the kill, %d reruns failed); temporaries left by kills %d, after the reruns %d\n\n",
-              wrong, kills, resumed_runs, finished_before_kill, failed, temporaries_left, temporaries_after_rerun);
+  std::printf("A. result: %d wrong resumed datasets of %d kills (%d resumed from a checkpoint: %d samples in all, %d "
+              "with a record cut by the kill; %d finished before the kill, %d reruns failed); temporaries left by "
+              "kills %d, after the reruns %d\n\n",
+              wrong, kills, resumed_runs, resumed_samples, cut_records, finished_before_kill, failed, temporaries_left,
+              temporaries_after_rerun);
 }
 
 // ---------------- B. clobbering ----------------
