@@ -4,9 +4,26 @@
 //
 //   energy RMSE / range     sqrt(mean_p (Psi_hat(s_p) - Psi_p)^2) over the points measured,
 //                           divided by max_p Psi_p - min_p Psi_p over ALL the term's points
-//   gradient error / mean   sqrt(mean_p |grad Psi_hat(s_p) - grad Psi_p|^2) (Euclidean, RMS)
-//                           over the points measured, divided by mean_p |grad Psi_p| over all
-//                           the term's points
+//   gradient error / mean   sqrt(mean_p |D (grad Psi_hat(s_p) - grad Psi_p)|^2) (Euclidean, RMS)
+//                           over the points measured, divided by mean_p |D grad Psi_p| over all
+//                           the term's points, with D = diag(half-widths of the term's box):
+//                           the gradient with respect to the box coordinate x = (s - c) / h, in
+//                           J/m^2 (the energy change across half the box). The strain
+//                           components of a 2D bending term have different units (1 and 1/m);
+//                           unscaled, the Euclidean norm all but ignored the bending direction
+//                           (stockinette term 15: dPsi/ds_a ~ 1.8 J/m^2, dPsi/dII ~ 0.003 J/m).
+//
+// and, of the data alone, where the points form a grid (produce's and synth's do):
+//
+//   data inconsistency      sqrt(mean over neighbour pairs along each axis of
+//                           |h_k ((Psi_q - Psi_p) / (s_q - s_p) - (g_p + g_q)_k / 2)|^2),
+//                           divided by the same mean gradient: how far the data's gradients
+//                           disagree with the slopes of their own energies (the trapezoid rule,
+//                           exact to O(spacing^2) on smooth data: 0-10 % on the smooth terms of
+//                           the paper-preset datasets). Where it is large the data are not a
+//                           smooth function (a solve that switched branches between neighbours,
+//                           buckling), and no smooth fit can match both energies and gradients:
+//                           the verdict then says so.
 //
 // Both are measured on the held-out validation points (the model file records which) and, for
 // comparison, on all points. A term passes when its validation energy RMSE is below 3 % of
@@ -29,9 +46,10 @@ struct FitQuality {
   double energy_rmse = 0;       // J/m^2
   double energy_range = 0;      // max - min of all the term's energies
   double energy_rel = 0;        // energy_rmse / energy_range (0 when the range is 0)
-  double grad_rms = 0;          // RMS Euclidean gradient error
-  double grad_mean = 0;         // mean |gradient| over all the term's points
+  double grad_rms = 0;          // RMS Euclidean error of the box-scaled gradient (J/m^2)
+  double grad_mean = 0;         // mean |box-scaled gradient| over all the term's points
   double grad_rel = 0;          // grad_rms / grad_mean (0 when the mean is 0)
+  double data_inconsistency = -1;  // of the data alone, / grad_mean; < 0: not a grid
   bool energy_ok() const { return energy_rel < kFitEnergyThreshold; }
   bool grad_ok() const { return grad_rel < kFitGradThreshold; }
   bool ok() const { return energy_ok() && grad_ok(); }
@@ -43,7 +61,12 @@ struct FitQuality {
 FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, const std::vector<int>& points = {});
 
 // "ok", or the failed thresholds in words, e.g.
-// "FAILS: energy RMSE 7.2% of the data range (limit 3%); gradient error 31% of the mean gradient (limit 10%)".
+// "FAILS: energy RMSE 7.2% of the data range (limit 3%); gradient error 31% of the mean gradient (limit 10%)",
+// followed, when the data's own inconsistency exceeds the gradient limit, by
+// "; the data's own gradients and energies disagree by 43% of the mean gradient: not smooth data".
 std::string fit_verdict(const FitQuality& q);
+
+// The data inconsistency above, relative to grad_mean (-1 when the points do not form a grid).
+double data_inconsistency(const TermData& data, double grad_mean);
 
 }  // namespace yarnhom

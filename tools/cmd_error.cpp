@@ -222,16 +222,17 @@ void register_error(CLI::App& app) {
     int failed = 0;
     if (any_fit) {
       std::printf("Fit to the data, in physical units (docs/training.md, \"Fit quality\"): energy RMSE relative to the "
-                  "term's data range, RMS gradient error relative to its mean gradient; limits %g%% and %g%% on the "
-                  "validation points%s\n",
+                  "term's data range, RMS gradient error relative to its mean gradient (box coordinates); limits %g%% and "
+                  "%g%% on the validation points%s. 'data G' is the data's own inconsistency (its gradients against "
+                  "the slopes of its energies, same unit): where it is above the limit no smooth fit can pass\n",
                   100 * kFitEnergyThreshold, 100 * kFitGradThreshold,
                   any_val ? "" : " (this model records no validation split: measured on all points)");
       if (baked)
         std::printf("The verdict is the network's (what training achieved); the baked columns are the tables a "
                     "simulator evaluates, which differ where bake's boundary repair raised an inward outward slope "
                     "(docs/bake.md): there the baked gradient cannot follow the data.\n");
-      std::printf("%-5s %6s  %-10s %-10s | %-10s %-10s |%s %s\n", "term", "N val", "val E/rng", "val G/avg", "all E/rng",
-                  "all G/avg", baked ? " baked E    baked G    |" : "", "verdict");
+      std::printf("%-5s %6s  %-10s %-10s | %-10s %-10s %-7s |%s %s\n", "term", "N val", "val E/rng", "val G/avg",
+                  "all E/rng", "all G/avg", "data G", baked ? " baked E    baked G    |" : "", "verdict");
       for (const Row& r : rows) {
         if (!r.has_fit) continue;
         const FitQuality& q = r.has_net ? r.net_q : r.val_q;
@@ -239,8 +240,10 @@ void register_error(CLI::App& app) {
         std::string verdict = fit_verdict(q);
         failed += !q.ok();
         if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? "; the BAKED table fails (boundary repair)" : "";
-        std::printf("%-5s %6d  %-10.3g %-10.3g | %-10.3g %-10.3g |", r.term.c_str(), q.n, 100 * q.energy_rel,
-                    100 * q.grad_rel, 100 * qa.energy_rel, 100 * qa.grad_rel);
+        char dg[32] = "-";
+        if (qa.data_inconsistency >= 0) std::snprintf(dg, sizeof dg, "%.3g", 100 * qa.data_inconsistency);
+        std::printf("%-5s %6d  %-10.3g %-10.3g | %-10.3g %-10.3g %-7s |", r.term.c_str(), q.n, 100 * q.energy_rel,
+                    100 * q.grad_rel, 100 * qa.energy_rel, 100 * qa.grad_rel, dg);
         if (baked) std::printf(" %-10.3g %-10.3g |", 100 * r.val_q.energy_rel, 100 * r.val_q.grad_rel);
         std::printf(" %s\n", verdict.c_str());
       }

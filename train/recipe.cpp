@@ -16,7 +16,7 @@ TrainerOptions recipe_options(const std::string& recipe) {
     return opt;
   }
   if (recipe == "default") {
-    opt.polish.iterations = 1000;
+    opt.polish.iterations = 4000;
     opt.polish.w_c = 0;
     opt.polish.w_s = 0;
     opt.polish.keep_best = true;

@@ -40,3 +40,65 @@ TEST(FitMetrics, KnownValuesAndVerdicts) {
   EXPECT_EQ(fit_verdict(bad).rfind("FAILS: gradient error", 0), 0u) << fit_verdict(bad);
   EXPECT_THROW(fit_quality(d, jet, {4}), std::invalid_argument);
 }
+
+// The gradient is measured in box coordinates: each component scaled by its half-width, so a
+// bending component (strain in 1/m over a box of +-200) counts as much as an in-plane one.
+TEST(FitMetrics, GradientInBoxCoordinates) {
+  TermData d;
+  d.term = term_by_name("03");
+  d.lower = {-0.5, -200};
+  d.upper = {0.5, 200};  // half-widths 0.5 and 200
+  d.n = 2;
+  d.strain = {0, 0, 0.5, 100};
+  d.energy = {0, 1};
+  d.gradient = {2, 0, 0, 0.01};  // box-scaled: (1, 0) and (0, 2): mean |.| 1.5
+  // Off by 0.005 J/m in dPsi/dII at point 1 only: box-scaled error 1 there.
+  const std::vector<double> jet = {0, 1, 2, 0, 0, 0.015};
+  const FitQuality q = fit_quality(d, jet);
+  EXPECT_DOUBLE_EQ(q.grad_mean, 1.5);
+  EXPECT_NEAR(q.grad_rms, std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(q.grad_rel, std::sqrt(0.5) / 1.5, 1e-12);
+  EXPECT_FALSE(q.grad_ok());  // unscaled, this error (0.005 beside |g| ~ 1) would have passed
+}
+
+// The data's own inconsistency: zero for a quadratic on a grid (the trapezoid rule is exact
+// for it), a known value when one node's gradient is off, -1 for scattered points.
+TEST(FitMetrics, DataInconsistencyOfAGrid) {
+  TermData d;
+  d.term = term_by_name("01");
+  d.lower = {-1, -2};
+  d.upper = {1, 2};  // half-widths 1, 2
+  const int m = 5;
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const double x = -1 + 0.5 * i, y = -2 + 1.0 * j;
+      d.strain.insert(d.strain.end(), {x, y});
+      d.energy.push_back(x * x + 0.5 * x * y - 0.25 * y * y + x);
+      d.gradient.insert(d.gradient.end(), {2 * x + 0.5 * y + 1, 0.5 * x - 0.5 * y});
+    }
+  d.n = m * m;
+  std::vector<double> jet(3 * d.n);
+  for (int p = 0; p < d.n; ++p) {
+    jet[p] = d.energy[p];
+    jet[d.n + p] = d.gradient[2 * p];
+    jet[2 * d.n + p] = d.gradient[2 * p + 1];
+  }
+  const FitQuality q = fit_quality(d, jet);
+  EXPECT_NEAR(q.data_inconsistency, 0.0, 1e-12);
+  EXPECT_DOUBLE_EQ(q.grad_rel, 0.0);
+  // Node (2, 2)'s d/ds_0 off by 1: its two pairs along axis 0 each see 0.5 (x half-width 1);
+  // 40 pairs in all.
+  TermData bad = d;
+  bad.gradient[2 * 12] += 1.0;
+  const double mean = fit_quality(bad, jet).grad_mean;
+  EXPECT_NEAR(data_inconsistency(bad, mean), std::sqrt(2 * 0.25 / 40) / mean, 1e-12);
+  // The verdict of a failed fit on data that inconsistent says so.
+  bad.gradient[2 * 12] += 1e3;
+  const FitQuality qb = fit_quality(bad, jet);
+  EXPECT_FALSE(qb.ok());
+  EXPECT_NE(fit_verdict(qb).find("not smooth data"), std::string::npos) << fit_verdict(qb);
+  // Scattered points are not a grid.
+  TermData s = d;
+  for (int p = 0; p < s.n; ++p) s.strain[2 * p] += 1e-3 * p;
+  EXPECT_LT(data_inconsistency(s, 1.0), 0.0);
+}
