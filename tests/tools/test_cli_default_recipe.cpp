@@ -164,7 +164,7 @@ TEST(DefaultRecipe, FitsStocktinyAndItsBakedModelRisesOutwardAlongEveryRay) {
         EXPECT_NE(r.out.find("not smooth data"), std::string::npos) << r.out;
       }
     }
-    EXPECT_GE(smooth_ok, 7) << r.out;  // the 1D terms and the smooth 2D ones
+    EXPECT_GE(smooth_ok, 5) << r.out;  // at least the 1D terms (measured: 7, with 02 and 23)
   }
   r = test::run_cli("bake " + d + "/m.h5 -o " + d + "/b.h5 --no-check");
   ASSERT_EQ(r.status, 0) << r.out;
