@@ -78,6 +78,10 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
     b.tables.push_back(bake_network(net, res1d, res2d, &r));
     if (reports) reports->push_back(r);
   }
+  if (reports) {
+    const std::vector<PairCheck> pairs = check_pairs(b);
+    for (size_t k = 0; k < pairs.size(); ++k) (*reports)[k].pair = pairs[k];
+  }
   return b;
 }
 
@@ -87,18 +91,15 @@ namespace yarnhom {
 
 std::string BakeReport::summary(const BakedTable& t) const {
   static const char* k1d[2] = {"lower end", "upper end"};
-  static const char* k2d[4] = {"x lower edge", "x upper edge", "y lower edge", "y upper edge"};
   std::string out;
   char buf[256];
   auto add = [&](const std::string& s) { out += (out.empty() ? "" : "; ") + s; };
   const bool one = t.dim() == 1;
   for (size_t k = 0; k < repair.sides.size(); ++k) {
     const SideRepair& r = repair.sides[k];
-    const char* name = one ? k1d[k] : k2d[k];
+    const char* name = k1d[k];  // only 1D tables are repaired
     if (r.repaired) {
-      if (one) std::snprintf(buf, sizeof buf, "%s: inward slope raised to 0 (by %.3g)", name, r.max_slope_raise);
-      else std::snprintf(buf, sizeof buf, "%s: inward slope raised at %d of %d knots (by up to %.3g)", name, r.repaired,
-                         r.knots, r.max_slope_raise);
+      std::snprintf(buf, sizeof buf, "%s: inward slope raised to 0 (by %.3g)", name, r.max_slope_raise);
       add(buf);
     }
     if (r.curvature_raised) add(std::string(name) + ": negative curvature raised to 0 in the table");
@@ -109,31 +110,26 @@ std::string BakeReport::summary(const BakedTable& t) const {
                   repair.range > 0 ? 100 * repair.max_change / repair.range : 0.0);
     add(buf);
   }
-  for (size_t k = 0; k < departures.sides.size(); ++k) {
-    const SafeguardDepartures::Side& d = departures.sides[k];
-    const char* name = one ? k1d[k] : k2d[k];
-    if (d.curvature_raised) {
-      if (one) std::snprintf(buf, sizeof buf, "%s: negative curvature continued as 0", name);
-      else std::snprintf(buf, sizeof buf, "%s: band curvature raised to 0 at %d of %d knots", name, d.curvature_raised,
-                         d.knots);
+  if (one) {
+    for (size_t k = 0; k < departures.sides.size(); ++k)
+      if (departures.sides[k].curvature_raised) add(std::string(k1d[k]) + ": negative curvature continued as 0");
+  } else if (departures.first_order) {
+    // Every 2D table departs the same way: the boundary curvature is not continued.
+    int neg = 0, knots = 0;
+    double dropped = 0;
+    for (const SafeguardDepartures::Side& d : departures.sides) {
+      neg += d.curvature_raised;
+      knots += d.knots;
+      dropped = std::max(dropped, d.curvature_dropped);
+    }
+    if (dropped > 0) {
+      std::snprintf(buf, sizeof buf, "first order outside (boundary curvature up to %.3g dropped; negative at %d of %d "
+                    "edge knots)", dropped, neg, knots);
       add(buf);
     }
-    if (d.slope_limited) {
-      std::snprintf(buf, sizeof buf, "%s: band curvature limited at %d knots to stay >= 0 between them", name,
-                    d.slope_limited);
-      add(buf);
-    }
   }
-  if (departures.corner_cubics_dropped) {
-    std::snprintf(buf, sizeof buf, "%d corner cubic term(s) set to 0 (curvature falling toward the corner)",
-                  departures.corner_cubics_dropped);
-    add(buf);
-  }
-  if (departures.corners_convexified) {
-    std::snprintf(buf, sizeof buf, "%d corner(s) with the curvatures raised to keep the corner convex outward",
-                  departures.corners_convexified);
-    add(buf);
-  }
+  const std::string pair_note = pair.summary();
+  if (!pair_note.empty()) add("REPORT: " + pair_note);
   return out.empty() ? "the paper's continuation" : out;
 }
 

@@ -1,12 +1,15 @@
 #pragma once
 // Baking (spec section 8): a term sampled on a regular knot grid over its box with exact
 // derivatives, 1D (f, f') for cubic Hermite, 2D (f, f_x, f_y, f_xy) for bicubic Hermite; the
-// boundary repair where the outward slope points inward (bake/boundary_repair.hpp); and the
-// safeguard coefficients implied by those knots (bake/baked_eval.hpp).
+// 1D end repair where a 1D term's end slope points inward or curves down
+// (bake/boundary_repair.hpp; 2D tables are never changed); the safeguard coefficients implied by
+// those knots (bake/baked_eval.hpp); and, per term pair, what the total energy does at the box
+// (bake/pair_check.hpp).
 #include <string>
 #include <vector>
 
 #include "bake/boundary_repair.hpp"
+#include "bake/pair_check.hpp"
 #include "bake/term_function.hpp"
 #include "core/baked.hpp"
 #include "core/model.hpp"
@@ -18,18 +21,20 @@ inline double knot_position(double lo, double hi, int n, int k) {
   return k == n - 1 ? hi : lo + (hi - lo) * k / (n - 1);
 }
 
-// What baking one table had to change: the boundary repair of the knots, and where the
-// safeguard departs from the paper's continuation.
+// What baking one table had to change: the 1D end repair of the knots, where the safeguard
+// departs from the paper's continuation, and (2D, from bake_model) the pair's total energy.
 struct BakeReport {
   BoundaryRepair repair;
   SafeguardDepartures departures;
+  PairCheck pair;
   // One line in words: "the paper's continuation" or where and by how much it departed.
   std::string summary(const BakedTable& table) const;
 };
 
 // Bakes any function over the box with `knots` knots per axis (>= 2). Provenance fields of the
-// result are left default. repair = false keeps the knots exactly the function's (the
-// safeguard is then only as safe as the function's boundary: for tests of interpolation).
+// result are left default. repair = false keeps a 1D table's knots exactly the function's (its
+// continuation then only as safe as the function's ends: for tests of interpolation); a 2D
+// table's knots are always the function's.
 BakedTable bake_function(const Term& term, const std::vector<double>& lower,
                          const std::vector<double>& upper, const std::vector<int>& knots,
                          const TermFunction& f, BakeReport* report = nullptr, bool repair = true);

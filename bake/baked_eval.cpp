@@ -69,8 +69,6 @@ void partials_2d(const BakedTerm& t, double x, double y, int na, int nb, double 
   }
 }
 
-void partials_2d(const BakedTerm& t, double x, double y, double D[4][4]) { partials_2d(t, x, y, 4, 4, D); }
-
 // Weights w[m][i] with which the m-th derivative along one axis combines the partials D_i at
 // the clamped point: inside, w = delta(i, m); outside by dx, the extension
 // sum_{i<=p} D_i dx^i / i! differentiated m times, p = 2 (safeguard) or 1 (linear).
@@ -86,25 +84,6 @@ void axis_weights(bool outside, double dx, double w[4][4], int p = 2) {
       const int e = i - m;
       w[m][i] = e == 0 ? 1.0 : e == 1 ? dx : 0.5 * dx * dx;
     }
-}
-
-// The band curvature of edge e (x_lower, x_upper, y_lower, y_upper) and its first three
-// derivatives along the edge at coordinate y (inside the edge's range): the cubic Hermite
-// spline through the stored (K_j, K'_j).
-void band_derivs(const BakedTerm& t, int e, double y, double out[4]) {
-  const int along = e < 2 ? 1 : 0;
-  double u;
-  const int i = locate(t, along, y, u);
-  const double h = 1.0 / t.inv_h[along];
-  const double* b = t.band[e].data() + 2 * size_t(i);
-  const double g[4] = {b[0], h * b[1], b[2], h * b[3]};
-  double c[4];
-  for (int k = 0; k < 4; ++k) c[k] = kM[k][0] * g[0] + kM[k][1] * g[1] + kM[k][2] * g[2] + kM[k][3] * g[3];
-  double p[4][4];
-  power_derivs(u, p);
-  double sc = 1;
-  for (int a = 0; a < 4; ++a, sc *= t.inv_h[along])
-    out[a] = sc * (p[a][0] * c[0] + p[a][1] * c[1] + p[a][2] * c[2] + p[a][3] * c[3]);
 }
 
 int side(const BakedTerm& t, int k, double x) { return x < t.lo[k] ? -1 : x > t.hi[k] ? 1 : 0; }
@@ -181,91 +160,10 @@ void check_close(const std::string& what, double stored, double computed, double
 }  // namespace
 
 bool SafeguardDepartures::any() const {
-  if (corners_convexified || corner_cubics_dropped) return true;
   for (const Side& s : sides)
-    if (s.curvature_raised || s.slope_limited) return true;
+    if (s.curvature_raised || s.curvature_dropped > 0) return true;
   return false;
 }
-
-namespace {
-
-// Minimum over [0, 1] of the cubic Hermite piece through values v0, v1 with end slopes m0, m1
-// (already scaled by the piece's length).
-double piece_min(double v0, double m0, double v1, double m1) {
-  const double a1 = m0, a2 = -3 * v0 - 2 * m0 + 3 * v1 - m1, a3 = 2 * v0 + m0 - 2 * v1 + m1;
-  auto p = [&](double u) { return v0 + u * (a1 + u * (a2 + u * a3)); };
-  double lo = std::min(v0, v1);
-  const double A = 3 * a3, B = 2 * a2, C = a1;
-  if (A == 0) {
-    if (B != 0 && -C / B > 0 && -C / B < 1) lo = std::min(lo, p(-C / B));
-  } else if (B * B - 4 * A * C >= 0) {
-    const double sq = std::sqrt(B * B - 4 * A * C);
-    for (double u : {(-B + sq) / (2 * A), (-B - sq) / (2 * A)})
-      if (u > 0 && u < 1) lo = std::min(lo, p(u));
-  }
-  return lo;
-}
-
-// The band curvature of one edge from the table's d2f/dn2 (K) and its derivative along the edge
-// (Kp) at the edge's knots, clamped so that the band rises outward (see the header): K >= 0;
-// at the two end knots K' points outward toward the corner (K'_0 <= 0, K'_{m-1} >= 0); then,
-// on every Hermite piece that still dips below 0, its knots are limited: an interior knot's
-// slope to |h K'| <= 3 K, an end knot's value raised to K >= h |K'| / 3 (its slope is fixed by
-// the corner), which makes the piece non-negative.
-// The size below which a clamp only removes rounding noise, and is not reported as a departure:
-// 1e-9 of the edge's largest |curvature| (slopes: per unit length h).
-double band_noise(const std::vector<double>& K) {
-  double s = 0;
-  for (double k : K) s = std::max(s, std::abs(k));
-  return 1e-9 * s;
-}
-
-void clamp_band(std::vector<double>& K, std::vector<double>& Kp, double h, SafeguardDepartures::Side* dep, int* cubics) {
-  const int m = int(K.size());
-  const double noise = band_noise(K);
-  for (int j = 0; j < m; ++j) {
-    if (K[j] < 0) {
-      if (dep && K[j] < -noise) ++dep->curvature_raised;
-      K[j] = 0;
-    }
-  }
-  if (Kp[0] > 0) {
-    if (h * Kp[0] > noise) ++*cubics;
-    Kp[0] = 0;
-  }
-  if (Kp[m - 1] < 0) {
-    if (-h * Kp[m - 1] > noise) ++*cubics;
-    Kp[m - 1] = 0;
-  }
-}
-
-void make_band_nonnegative(std::vector<double>& K, std::vector<double>& Kp, double h, SafeguardDepartures::Side* dep) {
-  const int m = int(K.size());
-  std::vector<char> done(m, 0);
-  const double noise = band_noise(K);
-  auto limit = [&](int j) {
-    if (done[j]) return;
-    done[j] = 1;
-    const double K0 = K[j], Kp0 = Kp[j];
-    if (j == 0) K[j] = std::max(K[j], -h * Kp[j] / 3);
-    else if (j == m - 1) K[j] = std::max(K[j], h * Kp[j] / 3);
-    else Kp[j] = std::clamp(Kp[j], -3 * K[j] / h, 3 * K[j] / h);
-    if (dep && (std::abs(K[j] - K0) > noise || h * std::abs(Kp[j] - Kp0) > noise)) ++dep->slope_limited;
-  };
-  for (bool again = true; again;) {
-    again = false;
-    for (int j = 0; j + 1 < m; ++j) {
-      if (done[j] && done[j + 1]) continue;
-      if (piece_min(K[j], h * Kp[j], K[j + 1], h * Kp[j + 1]) < 0) {
-        limit(j);
-        limit(j + 1);
-        again = true;
-      }
-    }
-  }
-}
-
-}  // namespace
 
 void compute_safeguard(BakedTable& tb, SafeguardDepartures* dep) {
   const BakedTerm t = build(tb);
@@ -276,7 +174,7 @@ void compute_safeguard(BakedTable& tb, SafeguardDepartures* dep) {
       double D[4];
       partials_1d(t, X, D);
       // The paper's form a s^2 + b s + c of the quadratic matching f, f' and the curvature at
-      // X; a negative curvature (only possible without bake's boundary repair) is continued
+      // X; a negative curvature (only possible without bake's 1D end repair) is continued
       // as 0, which costs C2 but never lets the energy turn down. A linear table continues
       // with its tangent (a = 0).
       SafeguardDepartures::Side side;
@@ -290,78 +188,47 @@ void compute_safeguard(BakedTable& tb, SafeguardDepartures* dep) {
     }
     return;
   }
-  // Per edge: g0, g0', g1, g1' from the table; the band curvature K, K' clamped.
-  std::array<std::vector<double>, 4> K, Kp;
+  // 2D: first order across every edge and in every corner (see the header). Per edge: g0, g0',
+  // g1, g1' from the table, g2 = g2' = 0; the boundary curvature d2f/dn2 the paper would have
+  // continued is only measured, for the report.
   std::vector<SafeguardDepartures::Side> sides(4);
-  int cubics = 0;
   for (int e = 0; e < 4; ++e) {
     const int axis = e / 2, along = 1 - axis;  // the edge's normal axis and its own axis
     const double X = (e % 2 == 0) ? t.lo[axis] : t.hi[axis];
     const int n = t.n[along];
     std::vector<double>& out = tb.edges[e];
     out.assign(size_t(n) * 6, 0.0);
-    K[e].resize(n);
-    Kp[e].resize(n);
     sides[e].knots = n;
+    double kmax = 0;
+    std::vector<double> K(n);
     for (int j = 0; j < n; ++j) {
       const double y = j == n - 1 ? t.hi[along] : t.lo[along] + j / t.inv_h[along];
       double D[4][4];
-      if (axis == 0) partials_2d(t, X, y, D);
-      else partials_2d(t, y, X, D);
+      if (axis == 0) partials_2d(t, X, y, 3, 3, D);
+      else partials_2d(t, y, X, 3, 3, D);
       for (int k = 0; k < 2; ++k) {
         out[6 * j + 2 * k] = axis == 0 ? D[k][0] : D[0][k];
         out[6 * j + 2 * k + 1] = axis == 0 ? D[k][1] : D[1][k];
       }
-      // A linear table keeps g2 = g2' = 0 (first-order continuation).
-      K[e][j] = t.linear ? 0.0 : axis == 0 ? D[2][0] : D[0][2];
-      Kp[e][j] = t.linear ? 0.0 : axis == 0 ? D[2][1] : D[1][2];
+      K[j] = axis == 0 ? D[2][0] : D[0][2];
+      kmax = std::max(kmax, std::abs(K[j]));
     }
-    clamp_band(K[e], Kp[e], 1.0 / t.inv_h[along], &sides[e], &cubics);
-  }
-  // Corners: the quadratic part K dx^2/2 + D_11 dx dy + L dy^2/2 must not bend the corner's
-  // outward quadrant down: in units of the box's half-widths, raise K and L to at least |D_11|
-  // where D_11 (oriented outward) is negative and K L < D_11^2.
-  const double hx = 0.5 * (t.hi[0] - t.lo[0]), hy = 0.5 * (t.hi[1] - t.lo[1]);
-  int convexified = 0;
-  for (int c = 0; c < 4; ++c) {
-    const bool ux = c & 1, uy = c & 2;
-    const double X = ux ? t.hi[0] : t.lo[0], Y = uy ? t.hi[1] : t.lo[1];
-    double D[4][4];
-    partials_2d(t, X, Y, D);
-    const double a11 = (ux ? 1 : -1) * (uy ? 1 : -1) * D[1][1];
-    double& Kc = K[ux ? 1 : 0][uy ? t.n[1] - 1 : 0];
-    double& Lc = K[uy ? 3 : 2][ux ? t.n[0] - 1 : 0];
-    const double A = std::abs(D[1][1]) * hx * hy;
-    if (!t.linear && a11 < 0 && (Kc * hx * hx) * (Lc * hy * hy) < A * A) {
-      const double K0 = Kc * hx * hx, L0 = Lc * hy * hy;
-      Kc = std::max(Kc, A / (hx * hx));
-      Lc = std::max(Lc, A / (hy * hy));
-      if (A * A - K0 * L0 > 1e-9 * A * A) ++convexified;
-    }
-  }
-  for (int e = 0; e < 4; ++e) {
-    const int along = 1 - e / 2;
-    make_band_nonnegative(K[e], Kp[e], 1.0 / t.inv_h[along], &sides[e]);
-    for (size_t j = 0; j < K[e].size(); ++j) {
-      tb.edges[e][6 * j + 4] = K[e][j];
-      tb.edges[e][6 * j + 5] = Kp[e][j];
+    if (!t.linear) {
+      for (double k : K)
+        if (k < -1e-9 * kmax) ++sides[e].curvature_raised;
+      sides[e].curvature_dropped = kmax;
     }
   }
   for (int c = 0; c < 4; ++c) {
     const bool ux = c & 1, uy = c & 2;
     const double X = ux ? t.hi[0] : t.lo[0], Y = uy ? t.hi[1] : t.lo[1];
     double D[4][4];
-    partials_2d(t, X, Y, D);
-    const int jx = uy ? t.n[1] - 1 : 0, iy = ux ? t.n[0] - 1 : 0;
-    const std::vector<double>& ex = K[ux ? 1 : 0];
-    const std::vector<double>& ey = K[uy ? 3 : 2];
-    tb.corners[c] = {D[0][0], D[1][0], D[0][1], ex[jx], D[1][1], ey[iy], Kp[ux ? 1 : 0][jx], Kp[uy ? 3 : 2][iy]};
+    partials_2d(t, X, Y, 2, 2, D);
+    tb.corners[c] = {D[0][0], D[1][0], D[0][1], 0.0, D[1][1], 0.0, 0.0, 0.0};
   }
   if (dep) {
     dep->sides = sides;
-    dep->corners_convexified = convexified;
-    // A corner cubic is dropped where the edge's curvature fell toward the corner.
-    dep->corner_cubics_dropped = cubics;
+    dep->first_order = !t.linear;
   }
 }
 
@@ -388,27 +255,42 @@ BakedTerm make_baked_term(const BakedTable& tb, const std::string& file) {
     }
     return t;
   }
+  // The first-order columns (g0, g0', g1, g1'; a00 a10 a01 a11) must match the knots. The
+  // curvature columns (g2, g2'; a20 a02 a21 a12) are 0 in a file of this bake; a file baked
+  // before the first-order continuation (the same format, version 1) holds its rising band
+  // curvatures there: it is read, and continued to first order like every other (docs/bake.md).
+  auto curvature_column = [](size_t q) { return q % 6 >= 4; };
+  auto corner_curvature = [](int q) { return q == 3 || q >= 5; };
   for (int e = 0; e < 4; ++e) {
     double scale = 0;
-    for (double v : ref.edges[e]) scale = std::max(scale, std::abs(v));
     for (size_t q = 0; q < ref.edges[e].size(); ++q)
-      check_close(std::string(kBakedEdgeNames[e]) + "[" + std::to_string(q) + "]", tb.edges[e][q],
-                  ref.edges[e][q], scale, tb, file);
-  }
-  for (int e = 0; e < 4; ++e) {
-    const size_t n = ref.edges[e].size() / 6;
-    t.band[e].resize(2 * n);
-    for (size_t j = 0; j < n; ++j) {
-      t.band[e][2 * j] = ref.edges[e][6 * j + 4];
-      t.band[e][2 * j + 1] = ref.edges[e][6 * j + 5];
+      if (!curvature_column(q)) scale = std::max(scale, std::abs(ref.edges[e][q]));
+    if (tb.edges[e].size() != ref.edges[e].size())
+      throw std::invalid_argument((file.empty() ? "" : file + ": ") + "/tables/" + tb.term.name + ": safeguard/" +
+                                  kBakedEdgeNames[e] + " has the wrong size");
+    for (size_t q = 0; q < ref.edges[e].size(); ++q) {
+      const std::string what = std::string(kBakedEdgeNames[e]) + "[" + std::to_string(q) + "]";
+      if (curvature_column(q)) {
+        if (!std::isfinite(tb.edges[e][q])) check_close(what, tb.edges[e][q], 0.0, scale, tb, file);
+        t.legacy_safeguard = t.legacy_safeguard || tb.edges[e][q] != 0;
+      } else {
+        check_close(what, tb.edges[e][q], ref.edges[e][q], scale, tb, file);
+      }
     }
   }
   for (int c = 0; c < 4; ++c) {
     double scale = 0;
-    for (double v : ref.corners[c]) scale = std::max(scale, std::abs(v));
     for (int q = 0; q < 8; ++q)
-      check_close(std::string(kBakedCornerNames[c]) + "[" + std::to_string(q) + "]", tb.corners[c][q],
-                  ref.corners[c][q], scale, tb, file);
+      if (!corner_curvature(q)) scale = std::max(scale, std::abs(ref.corners[c][q]));
+    for (int q = 0; q < 8; ++q) {
+      const std::string what = std::string(kBakedCornerNames[c]) + "[" + std::to_string(q) + "]";
+      if (corner_curvature(q)) {
+        if (!std::isfinite(tb.corners[c][q])) check_close(what, tb.corners[c][q], 0.0, scale, tb, file);
+        t.legacy_safeguard = t.legacy_safeguard || tb.corners[c][q] != 0;
+      } else {
+        check_close(what, tb.corners[c][q], ref.corners[c][q], scale, tb, file);
+      }
+    }
   }
   return t;
 }
@@ -438,27 +320,13 @@ void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out)
   }
   const double xc = std::clamp(s[0], t.lo[0], t.hi[0]), yc = std::clamp(s[1], t.lo[1], t.hi[1]);
   const bool ox = s[0] != xc, oy = s[1] != yc;
-  // Partials needed: along an axis inside, up to the requested order; outside, up to 2 (the
-  // extension is quadratic in the outside coordinate; 1 for a linear table).
-  const int p = t.linear ? 1 : 2;
+  // Partials needed: along an axis inside, up to the requested order; outside, up to 1: every
+  // 2D table continues to first order across its edges (the tensor product of the 1D linear
+  // extensions, see the header).
+  const int p = 1;
   const int na = ox ? p + 1 : order + 1, nb = oy ? p + 1 : order + 1;
   double D[4][4], wx[4][4], wy[4][4];
   partials_2d(t, xc, yc, na, nb, D);
-  // Outside, the curvature across an edge is the band's K (or L), not the table's: D_2j in an
-  // x band or corner becomes d^j K / dy^j, D_i2 in a y band or corner d^i L / dx^i. (A linear
-  // table has no second-order part outside.)
-  if (ox && !t.linear) {
-    double Kd[4];
-    band_derivs(t, s[0] < t.lo[0] ? 0 : 1, yc, Kd);
-    for (int j = 0; j < nb; ++j) D[2][j] = Kd[j];
-  }
-  if (oy && !t.linear) {
-    double Ld[4];
-    band_derivs(t, s[1] < t.lo[1] ? 2 : 3, xc, Ld);
-    for (int i = 0; i < na; ++i) D[i][2] = Ld[i];
-  }
-  // In a corner the safeguard has no dx^2 dy^2 term (see the header).
-  if (ox && oy && !t.linear) D[2][2] = 0;
   axis_weights(ox, s[0] - xc, wx, p);
   axis_weights(oy, s[1] - yc, wy, p);
   auto deriv = [&](int m, int n) {

@@ -8,32 +8,29 @@
 // Hermite from (f, f_x, f_y, f_xy) at the cell's four knots; C1 across cells.
 //
 // Outside (spec section 8; docs/bake.md, "The safeguard outside the box"). Let xc = clamp(x,
-// box), dx = x - xc per axis, D_ij = d^(i+j) p / dx^i dy^j the one-sided partials of the table p
-// at xc (from the cell that contains xc), and K(y), L(x) the band curvatures of the x and y
-// edges (below). Then
-//   1D:        F = D_0 + D_1 dx + max(D_2, 0) dx^2/2     (the paper's quadratic; C2 with the
-//                                                         table, whose repaired end has D_2 >= 0)
-//   x band:    F = D_00(y) + D_10(y) dx + K(y) dx^2/2      (one axis outside; likewise y)
-//   corner:    F = D_00 + D_10 dx + D_01 dy + D_11 dx dy + K dx^2/2 + L dy^2/2
-//                  + K' dx^2 dy/2 + L' dx dy^2/2           (K, K', L, L' at the corner)
-// K is the boundary's d2f/dn2 (the paper's choice) where that is >= 0, clamped so that the
-// energy rises outward by construction: K >= 0 along the whole edge (each Hermite piece of it
-// non-negative), K non-decreasing toward each corner (K' oriented outward >= 0 there), and at
-// each corner K L >= D_11^2 when D_11 bends the corner's outward quadrant downward. Together
-// with an outward slope D_10 >= 0 on the boundary (bake's boundary repair,
-// bake/boundary_repair.hpp), the energy and its outward slope are non-decreasing along every
-// outward ray: perpendicular to an edge in a band, any direction of the corner's quadrant in a
-// corner. The two cubic corner terms are what C1 across the corner/edge-band borders needs (on
-// the border dy = 0 the band's dF/dy is D_01 + D_11 dx + K' dx^2/2). The whole extension is C1
-// (C2 in 1D) with the table; its third derivatives are 0 in 1D and constant in a corner; in a
-// band they are those of the boundary data along the edge, growing at most quadratically
-// with dx.
+// box), dx = x - xc per axis and D_ij = d^(i+j) p / dx^i dy^j the one-sided partials of the
+// table p at xc (from the cell that contains xc). Then
+//   1D:        F = D_0 + D_1 dx + max(D_2, 0) dx^2/2     (the paper's quadratic, curvature
+//                                                         clamped; C2 where D_2 >= 0, which
+//                                                         bake's 1D end repair ensures)
+//   x band:    F = D_00(y) + D_10(y) dx                    (one axis outside; likewise y)
+//   corner:    F = D_00 + D_10 dx + D_01 dy + D_11 dx dy
+// A 2D term is a residual Psi_IJ = Psi - Psi_I - Psi_J, zero on the axes, whose own outward
+// rise means nothing physically (a Poisson coupling c s_x s_y falls outward along -s_y): only
+// the total energy the simulator sees must rise outward. So every 2D table continues to first
+// order along the outward normal of each edge: the residual neither bends down nor up outside,
+// the total's outward curvature in a band is that of the 1D terms (>= 0), and the table inside
+// the box is the network's, untouched. The bilinear corner is the only continuation that is C1
+// with both adjoining bands and first order along both outward normals; along a diagonal
+// corner ray (c, s) its curvature is 2 D_11 c s, so the total bends down there only where the
+// outward twist is negative and larger than the 1D terms' curvatures allow (D_11^2 > K_I K_J):
+// bake reports those corners per term pair (bake/pair_check.hpp) rather than changing data.
+// The extension is C1 with the table (C2 in 1D); its third derivatives are 0 outside in 1D, 0
+// in a corner, and in a band those of the boundary data along the edge.
 //
 // Tables with extrapolation "linear" (fit-splines, HYLC's convention) continue to first order
-// only: F = sum_{i<=1} D_i dx^i per outside axis, i.e. D_0 + D_1 dx in 1D, D_00(y) + D_10(y) dx
-// in an edge band, D_00 + D_10 dx + D_01 dy + D_11 dx dy in a corner (the tensor product of the
-// 1D extensions, as ARCSim-HYLC's HermiteSpline2D). C1 with the table; second derivatives
-// across the box boundary jump to their outside values (0 along the outside axis).
+// in 1D as well: D_0 + D_1 dx. In 2D "linear" and the safeguard are now the same formula (the
+// tensor product of the 1D extensions, as ARCSim-HYLC's HermiteSpline2D).
 #include <Eigen/Dense>
 #include <array>
 #include <string>
@@ -50,24 +47,24 @@ struct BakedTerm {
   double lo[2] = {0, 0}, hi[2] = {0, 0}, inv_h[2] = {1, 1};
   int n[2] = {1, 1};             // knots per axis
   bool linear = false;           // extrapolation "linear" rather than the safeguard
+  bool legacy_safeguard = false; // 2D: the file stores the band curvatures of an older bake
+                                 // (read, and continued to first order all the same)
   std::vector<double> coef;      // 1D: [n0-1][4] in u^k; 2D: [n0-1][n1-1][4][4] in u^k v^l
-  // 2D: the band curvature of each edge (x_lower, x_upper, y_lower, y_upper) as (K_j, K'_j) at
-  // the knots along it, interpolated by cubic Hermite between them.
-  std::array<std::vector<double>, 4> band;
 };
 
-// Where the safeguard of a table departs from the paper's continuation (the raw boundary
-// curvature continued): counted over the boundary knots, per side (1D: lower, upper; 2D: the
-// four edges in the order above) and per corner.
+// Where the safeguard of a table departs from the paper's continuation, per side (1D: lower,
+// upper; 2D: the four edges x_lower, x_upper, y_lower, y_upper). 1D: a negative end curvature
+// continued as 0 (only without bake's end repair). 2D: the boundary curvature d2f/dn2 that the
+// paper's quadratic would have continued is dropped (first order outside); its largest
+// magnitude and the knots where it was negative (would have bent the residual down) are kept.
 struct SafeguardDepartures {
   struct Side {
     int knots = 0;
-    int curvature_raised = 0;  // knots where d2f/dn2 < 0 was raised to 0 (or for convexity)
-    int slope_limited = 0;     // knots whose curvature slope along the edge was limited
+    int curvature_raised = 0;       // 1D: the end's d2f < 0 continued as 0; 2D: knots with d2f/dn2 < 0
+    double curvature_dropped = 0;   // 2D: largest |d2f/dn2| along the edge (physical units)
   };
   std::vector<Side> sides;
-  int corners_convexified = 0;  // corners where K, L were raised so that K L >= D_11^2
-  int corner_cubics_dropped = 0;  // corner cubic terms whose sign would bend the energy down
+  bool first_order = false;  // 2D safeguard: first order outside (every 2D table of this bake)
   bool any() const;
 };
 

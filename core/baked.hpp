@@ -18,7 +18,8 @@
 //       /tables/<name>/safeguard/edge_y_lower, edge_y_upper   float64 [n0, 6]
 //           per knot along the edge: g0, g0', g1, g1', g2, g2' with g0, g1 = f, df/dn on the
 //           edge (n the edge's own axis, not the outward normal), g2 the band's curvature
-//           (d2f/dn2 clamped, docs/bake.md), and ' along the edge
+//           (0: first order, docs/bake.md; an older bake stored a rising curvature there),
+//           and ' along the edge
 //       /tables/<name>/safeguard/corner_<x>_<y>  ( <x>,<y> in lower|upper )  float64 [8]
 //           a00 a10 a01 a20 a11 a02 a21 a12: a00 a10 a01 a11 the table's partials at the
 //           corner, a20 a21 (a02 a12) the x (y) edge's g2, g2' at the corner

@@ -44,11 +44,14 @@ void register_bake(CLI::App& app) {
       "bake",
       "Bake every network of a model into Hermite tables (1D: cubic, (f, f') at res1d knots; 2D: "
       "bicubic, (f, f_x, f_y, f_xy) on res2d x res2d knots; exact network derivatives) with the "
-      "safeguard outside the trained box (1D: C2 quadratic ends; 2D: four edge bands and four "
-      "corners, C1), which rises outward by construction: where a network's outward slope points "
-      "inward (or a 1D end curves down), the table is repaired in a boundary layer 5% of the box "
-      "wide, and where its boundary curvature is negative the continuation uses 0; the table "
-      "says per term where this departs from the paper's quadratic. The baked file is what a "
+      "safeguard outside the trained box: a 1D term (energy along one strain axis) continues with "
+      "the paper's C2 quadratic, its curvature clamped >= 0, and where its end slope points inward "
+      "or curves down the table's outer 5% is repaired so that it rises; a 2D term (a residual, "
+      "which may fall outward) is the network's everywhere and continues to first order across "
+      "its edges and corners (C1), so that outside the box the total energy's outward curvature "
+      "is the 1D terms'. The table says per term where this departs from the paper's quadratic, "
+      "and per term pair where the TOTAL energy falls outward at the box or bends down in a "
+      "corner (data the safeguard cannot fix without changing them). The baked file is what a "
       "cloth simulator loads (docs/bake.md).");
   cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(existing_regular_file());
   cmd->add_option("-o,--output", o->out, "Baked file to write (HDF5, written atomically)")->required();

@@ -74,8 +74,8 @@ void print_compare(const Model& model, const std::vector<Term>& wanted) {
     std::printf("%-5s ", net.term.name.c_str());
     const auto ref = network_function(net);
     for (int k = 0; k < 3; ++k) {
-      // The interpolation alone: without the boundary repair, whose change does not depend on
-      // the resolution (bake reports it).
+      // The interpolation alone: without the 1D end repair, whose change does not depend on
+      // the resolution (bake reports it; 2D tables are never changed).
       BakedTerm t = make_baked_term(bake_network(net, r1[k], r2[k], nullptr, false));
       BakeDeviation d = bake_deviation(ref, baked_function(t), net.term.dim(), net.lower, net.upper);
       worst[k] = std::max(worst[k], d.max_rel);
@@ -229,8 +229,9 @@ void register_error(CLI::App& app) {
                   any_val ? "" : " (this model records no validation split: measured on all points)");
       if (baked)
         std::printf("The verdict is the network's (what training achieved); the baked columns are the tables a "
-                    "simulator evaluates, which differ where bake's boundary repair raised an inward outward slope "
-                    "(docs/bake.md): there the baked gradient cannot follow the data.\n");
+                    "simulator evaluates: a 2D table is the network everywhere in the box (to the bake's interpolation "
+                    "accuracy), a 1D table too except where bake's end repair made a 1D term rise outward "
+                    "(docs/bake.md).\n");
       std::printf("%-5s %6s  %-10s %-10s | %-10s %-10s %-7s |%s %s\n", "term", "N val", "val E/rng", "val G/avg",
                   "all E/rng", "all G/avg", "data G", baked ? " baked E    baked G    |" : "", "verdict");
       for (const Row& r : rows) {
@@ -239,7 +240,7 @@ void register_error(CLI::App& app) {
         const FitQuality& qa = r.has_net ? r.net_all : r.all_q;
         std::string verdict = fit_verdict(q);
         failed += !q.ok();
-        if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? "; the BAKED table fails (boundary repair)" : "";
+        if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? "; the BAKED table fails (1D end repair or interpolation)" : "";
         char dg[32] = "-";
         if (qa.data_inconsistency >= 0) std::snprintf(dg, sizeof dg, "%.3g", 100 * qa.data_inconsistency);
         std::printf("%-5s %6d  %-10.3g %-10.3g | %-10.3g %-10.3g %-7s |", r.term.c_str(), q.n, 100 * q.energy_rel,

@@ -182,7 +182,7 @@ void register_pipeline(CLI::App& app) {
         if (tail.size() >= 4 && !tail[1].empty() && tail[3] != "1")
           baked_note = "; baked table: energy " + std::to_string(100 * std::stod(tail[1])).substr(0, 5) +
                        "%, gradient " + std::to_string(100 * std::stod(tail[2])).substr(0, 6) +
-                       "% (bake's boundary repair, docs/bake.md)";
+                       "% (bake's 1D end repair or interpolation, docs/bake.md)";
         std::snprintf(buf, sizeof buf, "    %-4s energy %6.2f%%  gradient %7.2f%%   %s%s\n", cols[0].c_str(),
                       100 * std::stod(cols[12]), 100 * std::stod(cols[13]), verdict.c_str(), baked_note.c_str());
         lines += buf;

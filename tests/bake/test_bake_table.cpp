@@ -1,7 +1,7 @@
 // Baked tables against the network they come from: exact at the knots, within the Hermite
 // interpolation error between them (a bound in 1D, the h^4 convergence rate in 2D). These bake
-// without the boundary repair (bake/boundary_repair.hpp), which changes random networks' tables
-// near the boundary on purpose: here the subject is the interpolation.
+// without the 1D end repair (bake/boundary_repair.hpp), which changes a random 1D network's
+// outer 5 % on purpose (2D tables are never changed): here the subject is the interpolation.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -65,8 +65,9 @@ inline TermFunction poly_term_function(const Poly2& p, int d) {
 }
 
 // Terms by name; boxes are HYLC's defaults (curvatures +-200 /m) unless in_plane_lower moves
-// the lower end of s_x and s_y. 1D: c[i][0]. Bake repairs a term whose slope points inward in
-// a layer 5 % of the box wide (docs/bake.md): there the table is not the polynomial.
+// the lower end of s_x and s_y. 1D: c[i][0]. Bake repairs a 1D term whose end slope points
+// inward or curves down in a layer 5 % of the box wide (docs/bake.md): there that table is not
+// the polynomial. 2D tables are the polynomial everywhere in the box.
 inline BakedModel poly_baked_model(const std::map<std::string, Poly2>& terms, double psi0 = 0.0, int knots1 = 41,
                                    int knots2 = 21, double in_plane_lower = -0.2) {
   BakedModel m;

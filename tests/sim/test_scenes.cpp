@@ -14,8 +14,9 @@ using namespace yarnhom::sim;
 namespace {
 
 // The box reaches s = -0.5 so that the strip's lateral contraction (to s = -0.2 at 170 %) stays
-// clear of the layer where bake repairs the Poisson coupling 3 s_x s_y, which falls outward
-// along -s_y.
+// inside it. (It was moved there when bake repaired 2D tables in a boundary layer, which
+// rewrote the Poisson coupling 3 s_x s_y where it falls outward along -s_y; bake no longer
+// changes 2D tables, docs/bake.md.)
 const MaterialFn& material() {
   static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
   return m;

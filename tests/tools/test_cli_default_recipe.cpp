@@ -13,11 +13,13 @@
 #include <string>
 
 #include "bake/baked_eval.hpp"
+#include "bake/pair_check.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "cpu/network_eval.hpp"
+#include "tests/bake/outward_rays.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -51,54 +53,6 @@ std::vector<std::pair<std::string, FitQuality>> validation_fits(const std::strin
 
 // Outward rays of a baked 2D table (see tests/bake/test_safeguard.cpp for the definition): the
 // energy and its slope along the ray never decrease, the slope is never negative.
-int rays_that_fall(const BakedTerm& t, int rays, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  const double H[2] = {0.5 * (t.hi[0] - t.lo[0]), 0.5 * (t.hi[1] - t.lo[1])};
-  double slope_scale = 0;
-  for (int i = 0; i <= 20; ++i)
-    for (int j = 0; j <= 20; ++j) {
-      const double s[2] = {t.lo[0] + 2 * H[0] * i / 20, t.lo[1] + 2 * H[1] * j / 20};
-      double jet[3];
-      eval_baked_jet(t, s, 1, jet);
-      slope_scale = std::max(slope_scale, std::abs(jet[1]) * H[0] + std::abs(jet[2]) * H[1]);
-    }
-  int bad = 0;
-  for (int r = 0; r < rays; ++r) {
-    double p[2], v[2];
-    if (r % 5 == 0) {
-      const int c = int(U(rng) * 4) & 3;
-      const double sx = (c & 1) ? 1 : -1, sy = (c & 2) ? 1 : -1, ang = 0.5 * M_PI * U(rng);
-      p[0] = sx > 0 ? t.hi[0] : t.lo[0];
-      p[1] = sy > 0 ? t.hi[1] : t.lo[1];
-      v[0] = sx * H[0] * std::cos(ang);
-      v[1] = sy * H[1] * std::sin(ang);
-    } else {
-      const int e = int(U(rng) * 4) & 3, axis = e / 2, along = 1 - axis;
-      const double sg = (e % 2) ? 1 : -1;
-      p[axis] = sg > 0 ? t.hi[axis] : t.lo[axis];
-      p[along] = t.lo[along] + 2 * H[along] * (0.001 + 0.998 * U(rng));
-      v[axis] = sg * H[axis];
-      v[along] = 0;
-    }
-    double smax = 1e300;
-    for (int k = 0; k < 2; ++k)
-      if (v[k] != 0) smax = std::min(smax, 2 * H[k] / std::abs(v[k]));
-    double Fp = -1e300, Sp = -1e300;
-    bool ok = true;
-    for (int k = 0; k <= 200; ++k) {
-      const double s = smax * k / 200;
-      const BakedJet2 j = eval_baked_2d(t, {p[0] + s * v[0], p[1] + s * v[1]});
-      const double S = j.g[0] * v[0] + j.g[1] * v[1];
-      const double tol = 1e-9 * std::abs(S) + 1e-10 * slope_scale;
-      ok = ok && S >= -tol && S >= Sp - tol && j.f >= Fp - 1e-11 * (1 + std::abs(j.f));
-      Fp = j.f;
-      Sp = S;
-    }
-    bad += !ok;
-  }
-  return bad;
-}
 
 }  // namespace
 
@@ -140,10 +94,13 @@ TEST(DefaultRecipe, PaperRecipeHasNoPolishAndReportsItsFailures) {
 // A model trained on real yarn data (the paper's tiny stockinette, quick preset: the demo's
 // size). Its fit: every term within the limits, except terms whose data are not smooth (their
 // own gradients and energies disagree by more than the gradient limit, core/fit_metrics.hpp),
-// which no smooth fit can pass and whose verdict must say so. Then baked: 1,000 outward rays
-// per 2D term, all eight sectors, never falling. (One produce and one train-all for both: the
+// which no smooth fit can pass and whose verdict must say so. Then baked: in the plane of every
+// term pair the TOTAL energy Psi_I + Psi_J + Psi_IJ along 1,000 outward rays from the pair's box
+// (one in five from a corner) to 3x the box: the slope never decreases and never turns negative
+// where it starts non-negative (corners the bake reports as bending down are skipped and
+// counted); both ends of every 1D table rise. (One produce and one train-all for both: the
 // suite stays small.)
-TEST(DefaultRecipe, FitsStocktinyAndItsBakedModelRisesOutwardAlongEveryRay) {
+TEST(DefaultRecipe, FitsStocktinyAndItsBakedModelTotalRisesOutwardAlongEveryRay) {
   const std::string pattern = std::string(YARNHOM_SOURCE_DIR) + "/../shared/patterns/stocktiny.pyp";
   if (!fs::exists(pattern)) GTEST_SKIP() << "shared pattern not found: " << pattern;
   const std::string d = tmpdir("rays");
@@ -170,28 +127,40 @@ TEST(DefaultRecipe, FitsStocktinyAndItsBakedModelRisesOutwardAlongEveryRay) {
   ASSERT_EQ(r.status, 0) << r.out;
   const BakedModel b = read_baked(d + "/b.h5");
   ASSERT_EQ(b.tables.size(), 14u);
+  const std::vector<PairCheck> pcs = check_pairs(b);
+  std::vector<BakedTerm> terms;
+  for (const BakedTable& tb : b.tables) terms.push_back(make_baked_term(tb));
+  auto one_d = [&](int index) -> const BakedTerm* {
+    for (const BakedTerm& t : terms)
+      if (t.dim == 1 && t.term.indices[0] == index) return &t;
+    return nullptr;
+  };
   unsigned seed = 1;
-  for (const BakedTable& tb : b.tables) {
-    const BakedTerm t = make_baked_term(tb);
+  int skipped = 0, start_falling = 0;
+  for (size_t k = 0; k < terms.size(); ++k) {
+    const BakedTerm& t = terms[k];
     if (t.dim == 2) {
-      EXPECT_EQ(rays_that_fall(t, 1000, seed++), 0) << tb.term.name;
+      const test::RayTally rt = test::pair_plane_rays(t, one_d(t.term.indices[0]), one_d(t.term.indices[1]), pcs[k], 1000, seed++);
+      EXPECT_EQ(rt.slope_falls, 0) << t.term.name << ": " << pcs[k].summary();
+      EXPECT_EQ(rt.turns_back, 0) << t.term.name << ": " << pcs[k].summary();
+      skipped += rt.skipped;
+      start_falling += rt.start_falling;
       continue;
     }
+    const double H = 0.5 * (t.hi[0] - t.lo[0]);
     double gmax = 0;
-    for (double g : tb.f_x) gmax = std::max(gmax, std::abs(g));
-    for (int e = 0; e < 2; ++e) {
-      const double sg = e ? 1 : -1, X = e ? t.hi[0] : t.lo[0], H = 0.5 * (t.hi[0] - t.lo[0]);
-      double Fp = -1e300, Sp = -1e300;
-      for (int k = 0; k <= 1000; ++k) {
-        const BakedJet1 j = eval_baked_1d(t, X + sg * 2 * H * k / 1000);
-        const double S = sg * j.df, tol = 1e-9 * std::abs(S) + 1e-10 * gmax;
-        EXPECT_GE(S, -tol) << tb.term.name << " end " << e;
-        EXPECT_GE(S, Sp - tol) << tb.term.name << " end " << e;
-        EXPECT_GE(j.f, Fp - 1e-11 * (1 + std::abs(j.f))) << tb.term.name << " end " << e;
-        Fp = j.f;
-        Sp = S;
-      }
-    }
+    for (int i = 0; i <= 100; ++i) gmax = std::max(gmax, std::abs(eval_baked_1d(t, t.lo[0] + 2 * H * i / 100).df) * H);
+    test::RayTally rt;
+    const test::RayEnergy E = [&](const std::vector<double>& x, const std::vector<double>& v, double& F, double& S) {
+      const BakedJet1 j = eval_baked_1d(t, x[0]);
+      F = j.f;
+      S = j.df * v[0];
+    };
+    test::walk_ray(E, {t.hi[0]}, {H}, 2.0, gmax, rt, 1000);
+    test::walk_ray(E, {t.lo[0]}, {-H}, 2.0, gmax, rt, 1000);
+    EXPECT_EQ(rt.slope_falls + rt.turns_back + rt.start_falling, 0) << t.term.name;
   }
+  std::printf("trained stocktiny: %d corner rays skipped at reported corners, %d rays started falling (reported)\n",
+              skipped, start_falling);
   fs::remove_all(d);
 }
