@@ -1,5 +1,6 @@
 #include "accuracy/csv_columns.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -22,10 +23,11 @@ std::vector<std::string> split(const std::string& line) {
 
 }  // namespace
 
-CsvColumns read_csv_columns(const std::string& path) {
+CsvColumns read_csv_columns(const std::string& path, const std::vector<std::string>& only) {
   std::ifstream in(path);
   if (!in) throw FileError(path, "", "cannot open");
   std::vector<std::string> header;
+  auto wanted = [&](const std::string& h) { return only.empty() || std::find(only.begin(), only.end(), h) != only.end(); };
   CsvColumns t;
   std::string line;
   int lineno = 0;
@@ -35,13 +37,15 @@ CsvColumns read_csv_columns(const std::string& path) {
     auto cells = split(line);
     if (header.empty()) {
       header = cells;
-      for (const auto& h : header) t[h];
+      for (const auto& h : header)
+        if (wanted(h)) t[h];
       continue;
     }
     if (cells.size() != header.size())
       throw FileError(path, "line " + std::to_string(lineno),
                       std::to_string(cells.size()) + " cells, the header has " + std::to_string(header.size()));
     for (size_t k = 0; k < cells.size(); ++k) {
+      if (!wanted(header[k])) continue;
       size_t used = 0;
       double x = 0;
       try {

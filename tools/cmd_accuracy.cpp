@@ -73,7 +73,8 @@ std::vector<std::string> step_objs(const fs::path& folder, size_t n) {
 
 // stretch and tension (N/m) columns of a force curve.
 void read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
-  const CsvColumns t = read_csv_columns(path);
+  const CsvColumns t =
+      read_csv_columns(path, {"stretch", "ratio", "lambda", "tension_N_per_m", "force_per_width_N_per_m"});
   stretch = csv_column(t, {"stretch", "ratio", "lambda"}, path);
   tension = csv_column(t, {"tension_N_per_m", "force_per_width_N_per_m"}, path);
 }

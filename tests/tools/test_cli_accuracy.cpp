@@ -1,12 +1,15 @@
 // The accuracy study's commands end to end: fit-splines on a dataset, its baked file read back by
-// eval (inside the knots and in the linear extrapolation).
+// eval (inside the knots and in the linear extrapolation); `accuracy` on stocktiny.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
+#include "accuracy/hausdorff.hpp"
+#include "accuracy/obj_read.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -60,5 +63,60 @@ TEST(CliAccuracy, FitSplinesWritesABakedFileThatEvalReads) {
   auto bad = yarnhom::test::run_cli("fit-splines " + d + "/d.h5 -o " + d + "/t.h5 --knots1d 2");
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.out.find("knots1d"), std::string::npos) << bad.out;
+  fs::remove_all(d);
+}
+
+// `accuracy` end to end on the paper's tiny stockinette (issue 15): every stage runs (produce's
+// tiny dataset, train-all, bake, fit-splines, a 3-course yarn strip, sim stretch with both
+// materials), accuracy.csv has the paper's 15 tests (100-170 % in 5 % steps), the yarn strip
+// carries tension at 170 %, a rerun skips every stage, and the continuum strip against itself
+// has Hausdorff distance 0. The sizes are tiny, so the figures themselves mean nothing here.
+TEST(CliAccuracy, EndToEndOnStocktiny) {
+  const fs::path pat = fs::path(YARNHOM_SOURCE_DIR) / ".." / "shared" / "patterns" / "stocktiny.pyp";
+  if (!fs::exists(pat)) GTEST_SKIP() << "shared patterns not found";
+  const std::string d = tmpdir("e2e");
+  auto p = yarnhom::test::run_cli("produce " + pat.string() + " --preset tiny --threads 2 -o " + d + "/ds.h5");
+  ASSERT_EQ(p.status, 0) << p.out;
+  const std::string cmd = "accuracy " + pat.string() + " --direction wale --dataset " + d +
+                          "/ds.h5 --size 0.0035,0.0027 --epochs 20 --threads 2 --strip-args '--clamp 0.0009 "
+                          "--threads 2 --no-plots' --sim-args '--resolution 4' -o " + d + "/acc";
+  auto r = yarnhom::test::run_cli(cmd);
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (const char* f : {"model.h5", "neural.h5", "spline.h5", "strip/force.csv", "strip/centrelines/step_014.obj",
+                        "sim_neural/stretch.csv", "sim_spline/stretch.csv", "sim_neural/frames/frame_0000.obj",
+                        "accuracy.csv", "accuracy.md"})
+    EXPECT_TRUE(fs::exists(d + "/acc/" + f)) << f;
+  // accuracy.csv: a header and 15 rows, stretch 1.00 .. 1.70.
+  std::ifstream in(d + "/acc/accuracy.csv");
+  std::string line;
+  std::vector<std::vector<double>> v;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<double> row;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) row.push_back(std::stod(cell));
+    v.push_back(row);
+  }
+  ASSERT_EQ(v.size(), 15u);
+  EXPECT_NEAR(v.front()[0], 1.0, 1e-9);
+  EXPECT_NEAR(v.back()[0], 1.7, 1e-9);
+  EXPECT_GT(v.back()[1], 0.0) << "the yarn strip is in tension at 170 %";
+  for (const auto& row : v)
+    for (double x : row) EXPECT_TRUE(std::isfinite(x));
+  // A rerun is all cached.
+  auto again = yarnhom::test::run_cli(cmd);
+  ASSERT_EQ(again.status, 0) << again.out;
+  EXPECT_EQ(again.out.find("running"), std::string::npos) << again.out;
+  // The measure: a continuum frame against its own vertices is 0 both ways (the surface is
+  // sampled at the spacing, at least at its vertices: a spacing above the triangles' size keeps
+  // the vertices only).
+  const yarnhom::ObjGeometry g = yarnhom::read_obj_geometry(d + "/acc/sim_neural/frames/frame_0000.obj");
+  ASSERT_GT(g.F.cols(), 0);
+  const yarnhom::HausdorffDistance h = yarnhom::hausdorff(g.V, g.V, g.F, 1.0);
+  EXPECT_EQ(h.points_to_surface, 0.0);
+  EXPECT_EQ(h.surface_to_points, 0.0);
+  EXPECT_EQ(h.symmetric, 0.0);
   fs::remove_all(d);
 }
