@@ -14,7 +14,7 @@
 #include "sim/simulation.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
-#include "tools/python_util.hpp"
+#include "tools/python_env.hpp"
 
 namespace yarnhom::tools {
 
@@ -207,8 +207,8 @@ void register_sim(CLI::App& app) {
     }
     // Pictures.
     if (!s.render_frames.empty() || !r.stretch.empty()) {
-      const std::string py = find_python_with("matplotlib, numpy");
-      const std::string script = (fs::path(scripts_folder()) / "plot" / "render_sim.py").string();
+      const std::string py = find_python("matplotlib, numpy");
+      const std::string script = (fs::path(scripts_dir()) / "plot" / "render_sim.py").string();
       if (py.empty()) {
         std::fprintf(stderr, "sim: no python3 with matplotlib and numpy (tried $YARNHOM_PYTHON, /usr/bin/python3, python3): "
                              "no PNG written; install python3-matplotlib or set YARNHOM_PYTHON\n");

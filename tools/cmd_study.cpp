@@ -18,6 +18,7 @@
 #include "tools/accuracy_run.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
+#include "tools/python_env.hpp"
 #include "tools/stage_runner.hpp"
 #include "yarn/pattern.hpp"
 
@@ -82,25 +83,7 @@ void write_text(const fs::path& path, const std::string& text) {
   out.commit();
 }
 
-// A python3 with matplotlib and numpy ($YARNHOM_PYTHON, /usr/bin/python3, python3), or "".
-std::string plotting_python() {
-  std::vector<std::string> c;
-  if (const char* e = std::getenv("YARNHOM_PYTHON")) c.push_back(e);
-  c.push_back("/usr/bin/python3");
-  c.push_back("python3");
-  for (const std::string& p : c)
-    if (run_child({p, "-c", "import matplotlib, numpy"}, "/dev/null", "/dev/null") == 0) return p;
-  return "";
-}
-
-std::string plot_script(const std::string& name) {
-  if (const char* e = std::getenv("YARNHOM_SCRIPTS")) return std::string(e) + "/plot/" + name;
-#ifdef YARNHOM_SCRIPTS_DIR
-  return std::string(YARNHOM_SCRIPTS_DIR) + "/plot/" + name;
-#else
-  return "tools/plot/" + name;
-#endif
-}
+std::string plot_script(const std::string& name) { return scripts_dir() + "/plot/" + name; }
 
 // Fig. 5: the yarn strip and the neural continuum strip at the step nearest 130 %, side by side.
 // Pictures are a bonus: a missing python or a failed plot is reported, not fatal.
@@ -113,7 +96,7 @@ void fig5(const AccuracyResult& r, const AccuracyOptions& a, const std::string& 
   std::snprintf(cname, sizeof cname, "frame_%04zu.obj", k);
   const fs::path ydir = a.strip_dir.empty() ? fs::path(a.out) / "strip" : fs::path(a.strip_dir);
   const fs::path cdir = fs::path(a.out) / "sim_neural" / "frames";
-  const std::string py = plotting_python();
+  const std::string py = find_python("matplotlib, numpy");
   if (py.empty()) {
     std::printf("  (no python3 with matplotlib: no %s)\n", png.string().c_str());
     return;

@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
+#include "yarn/certificate_io.hpp"
 #include "yarn/frames.hpp"
 
 namespace yarnhom::yarn {
@@ -49,13 +50,7 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
     fr.write("twist", st.frames.twist, {hsize_t(n)});
     // The topology certificate of the path that led here, and the path itself when recorded
     // (every configuration from the pattern's own geometry: re-checkable, yarnhom rve --certify).
-    const ContactCertificate& c = st.certificate;
-    h5::Node cg = root.create_group("certificate");
-    cg.set_attr("valid", c.valid ? 1 : 0);
-    cg.set_attr("dmin", c.dmin);
-    cg.set_attr("min_distance", std::isfinite(c.min_distance) ? c.min_distance : -1.0);
-    cg.set_attr("moves", c.moves);
-    cg.set_attr("failure", c.failure);
+    h5::Node cg = write_certificate(root, st.certificate);
     cg.set_attr("anchor_strain", std::vector<double>(st.anchor.s.data(), st.anchor.s.data() + 6));
     if (!st.path.empty()) {
       const hsize_t m = st.path.size();
@@ -103,24 +98,13 @@ RveState read_state(const std::string& path, const RveProblem& rve) {
     const auto sv = root.attr_doubles("strain");
     if (sv.size() == 6) st.anchor.s = Eigen::Map<const Strain>(sv.data());
   }
-  ContactCertificate c;
-  c.dmin = rve.min_separation();
-  if (!root.has("certificate")) {
-    invalidate(c, "the state file has no topology certificate");
-  } else {
+  const ContactCertificate c = read_certificate(root, rve.min_separation(), "the state file has no topology certificate");
+  if (root.has("certificate")) {
     const h5::Node cg = root.group("certificate");
-    c.valid = cg.attr_int("valid") != 0;
-    c.dmin = cg.attr_double("dmin");
-    c.min_distance = cg.attr_double("min_distance");
-    if (c.min_distance < 0) c.min_distance = std::numeric_limits<double>::infinity();
-    c.moves = static_cast<int>(cg.attr_int("moves"));
-    c.failure = cg.attr_string("failure");
     if (cg.has_attr("anchor_strain")) {
       const auto sv = cg.attr_doubles("anchor_strain");
       if (sv.size() == 6) st.anchor.s = Eigen::Map<const Strain>(sv.data());
     }
-    if (c.dmin != rve.min_separation())
-      invalidate(c, "certified against another d_min than this problem's");
     if (cg.has("path_strain")) {
       const auto ps = cg.read_double("path_strain"), pu = cg.read_double("path_u");
       const size_t m = ps.rows();

@@ -9,6 +9,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
+#include "yarn/certificate_io.hpp"
 
 namespace yarnhom::yarn {
 
@@ -101,13 +102,7 @@ void write_step(const std::string& path, const Strip& s, const StretchStep& r, c
     fr.write("twist", st.twist, {hsize_t(n)});
     // The topology certificate of every move from the generated strip to here (a resumed run
     // carries it on).
-    const ContactCertificate& c = st.certificate;
-    h5::Node cg = root.create_group("certificate");
-    cg.set_attr("valid", c.valid ? 1 : 0);
-    cg.set_attr("dmin", c.dmin);
-    cg.set_attr("min_distance", std::isfinite(c.min_distance) ? c.min_distance : -1.0);
-    cg.set_attr("moves", c.moves);
-    cg.set_attr("failure", c.failure);
+    write_certificate(root, st.certificate);
   }
   out.commit();
 }
@@ -141,21 +136,8 @@ StretchStep read_step(const std::string& path, const StripProblem& P, StripState
                     Eigen::Vector3d(d1.data[3 * e], d1.data[3 * e + 1], d1.data[3 * e + 2])};
   st.twist = tw.data;
   // A file without a certificate certifies nothing.
-  ContactCertificate& c = st.certificate;
-  c = ContactCertificate{};
-  c.dmin = P.contact().dmin();
-  if (!root.has("certificate")) {
-    invalidate(c, "the step file has no topology certificate");
-  } else {
-    const h5::Node cg = root.group("certificate");
-    c.valid = cg.attr_int("valid") != 0;
-    c.dmin = cg.attr_double("dmin");
-    c.min_distance = cg.attr_double("min_distance");
-    if (c.min_distance < 0) c.min_distance = std::numeric_limits<double>::infinity();
-    c.moves = static_cast<int>(cg.attr_int("moves"));
-    c.failure = cg.attr_string("failure");
-    if (c.dmin != P.contact().dmin()) invalidate(c, "certified against another d_min than this problem's");
-  }
+  st.certificate = read_certificate(root, P.contact().dmin(), "the step file has no topology certificate");
+  const ContactCertificate& c = st.certificate;
   StretchStep r;
   r.stretch = root.attr_double("stretch");
   r.force_low = root.attr_double("force_low");
