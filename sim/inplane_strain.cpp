@@ -2,11 +2,13 @@
 
 #include <cmath>
 
+#include "sim/psd_projection.hpp"
+
 namespace yarnhom::sim {
 
 Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
                                const Eigen::Matrix2d& B, Eigen::Matrix<double, 3, 9>* J,
-                               const Eigen::Vector3d* lambda, Mat9* H) {
+                               const Eigen::Vector3d* lambda, Mat9* H, bool psd) {
   // c(a, v): coefficient of vertex v in f_a.
   double c[2][3];
   for (int a = 0; a < 2; ++a) {
@@ -39,6 +41,16 @@ Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d&
     Eigen::Matrix3d H11 = lx * Pu / a + la * (-(u * g1.transpose() + g1 * u.transpose()) / a - cs * Pu / (a * a));
     Eigen::Matrix3d H22 = ly * Pw / b + la * (-(w * g2.transpose() + g2 * w.transpose()) / b - cs * Pw / (b * b));
     Eigen::Matrix3d H12 = la * (Pw / b - u * g2.transpose()) / a;
+    if (psd) {
+      Eigen::Matrix<double, 6, 6> Hf;
+      Hf << H11, H12, H12.transpose(), H22;
+      Hf = (0.5 * (Hf + Hf.transpose())).eval();  // H11, H22 symmetric up to rounding
+      if (project_psd(Hf)) {
+        H11 = Hf.block<3, 3>(0, 0);
+        H12 = Hf.block<3, 3>(0, 3);
+        H22 = Hf.block<3, 3>(3, 3);
+      }
+    }
     for (int v = 0; v < 3; ++v)
       for (int q = 0; q < 3; ++q)
         H->block<3, 3>(3 * v, 3 * q) = c[0][v] * c[0][q] * H11 + c[1][v] * c[1][q] * H22 +

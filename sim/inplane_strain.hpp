@@ -13,6 +13,12 @@
 //   d2s_a/df1^2 = -(u g1^T + g1 u^T)/a - c P_u / a^2
 //   d2s_a/df1 df2 = (P_w / b - u g2^T)/a  (= (d2s_a/df2 df1)^T)
 // and the same with the roles of f1 and f2 swapped for s_y and d2s_a/df2^2.
+//
+// project_psd: the contracted Hessian is first formed in (f1, f2), a 6 x 6 matrix; projecting
+// that onto the positive semi-definite cone before mapping it to the vertices gives a PSD 9 x 9
+// matrix (a congruence C^T P C of a PSD P) for a 6 x 6 eigenproblem instead of a 9 x 9 or
+// 18 x 18 one, equal to the exact term whenever the 6 x 6 one is already PSD (e.g. both
+// directions in tension with little shear: lambda_x, lambda_y > 0 and lambda_a small).
 #include <Eigen/Core>
 
 namespace yarnhom::sim {
@@ -23,6 +29,6 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // s = (s_x, s_a, s_y). J (if given) = ds/dx (3 x 9). H (if given) = sum_k lambda_k d2s_k/dx2.
 Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
                                const Eigen::Matrix2d& Binv, Eigen::Matrix<double, 3, 9>* J = nullptr,
-                               const Eigen::Vector3d* lambda = nullptr, Mat9* H = nullptr);
+                               const Eigen::Vector3d* lambda = nullptr, Mat9* H = nullptr, bool project_psd = false);
 
 }  // namespace yarnhom::sim

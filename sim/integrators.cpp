@@ -66,7 +66,7 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
   Eigen::VectorXd grad = Eigen::VectorXd::Zero(x.size());
   const std::vector<double> ref = step_branches(P.mesh, xs, hinges);
   shell_energy_derivatives(P.mesh, P.rest, P.material, xs, grad, &pat, K.valuePtr(),
-                           profile ? &out.newton.shell : nullptr, true, ref.data());
+                           profile ? &out.newton.shell : nullptr, P.hessian, ref.data());
   const int F = D.num_free();
   Eigen::VectorXd vf(3 * F), rhs(3 * F);
   const Eigen::MatrixX3d normals = P.air_drag > 0 ? vertex_normals(P.mesh, xs) : Eigen::MatrixX3d();

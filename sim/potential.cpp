@@ -104,7 +104,7 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings) {
   grad.setZero(x.size());
-  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, true,
+  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
                                       S.theta_ref.empty() ? nullptr : S.theta_ref.data());
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;
@@ -145,7 +145,7 @@ Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPatte
   Eigen::SparseMatrix<double> K = pat.matrix;
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr());
+  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr(), nullptr, P.hessian);
   return K;
 }
 

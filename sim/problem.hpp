@@ -5,6 +5,7 @@
 
 #include "sim/collider.hpp"
 #include "sim/element_rest.hpp"
+#include "sim/hessian_model.hpp"
 #include "sim/material_fn.hpp"
 #include "sim/mesh.hpp"
 
@@ -24,6 +25,7 @@ struct Problem {
   double rayleigh_alpha = 0;    // mass-proportional damping, 1/s
   double rayleigh_beta = 0;     // stiffness-proportional damping, s
   double air_drag = 0;          // drag on the normal velocity, kg/(m^2 s) (force -c A (v.n) n)
+  HessianModel hessian = HessianModel::ProjectedElement;  // PSD model of the element Hessians
 };
 
 // Rest elements, vertex areas and masses from the mesh. areal_density may be 0 (no inertia

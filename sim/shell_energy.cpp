@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "sim/inplane_strain.hpp"
 #include "sim/psd_projection.hpp"
 #include "sim/shell_strain.hpp"
 
@@ -58,7 +59,7 @@ double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const M
 
 double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
-                                double* values, ShellTimings* timings, bool project, const double* theta_ref) {
+                                double* values, ShellTimings* timings, HessianModel model, const double* theta_ref) {
   const bool hess = pattern && values;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
   const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
@@ -93,11 +94,26 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       }
       if (!hess) continue;
       Mat18 H;
-      shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
-      H += J.transpose() * me.hess * J;
-      H *= A;
-      if (timings) tm.chain += since(t0);
-      const bool changed = project && project_psd(H);
+      bool changed = false;
+      if (model == HessianModel::Split) {
+        // J^T [H]_+ J + C^T [Hf]_+ C (sim/hessian_model.hpp); no bending curvature term.
+        Eigen::Matrix<double, 6, 6> Hs = me.hess;
+        changed = project_psd(Hs);
+        if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
+        H.noalias() = J.transpose() * Hs * J;
+        Mat9 Hin;
+        const Eigen::Vector3d gin = me.grad.head<3>();
+        inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true);
+        H.block<9, 9>(0, 0) += Hin;
+        H *= A;
+        if (timings) tm.chain += since(t0);
+      } else {
+        shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
+        H += J.transpose() * me.hess * J;
+        H *= A;
+        if (timings) tm.chain += since(t0);
+        changed = model == HessianModel::ProjectedElement && project_psd(H);
+      }
       if (timings) {
         tm.project += since(t0);
         tm.projected += changed;

@@ -3,11 +3,13 @@
 // gradient and its Hessian by the chain rule through s,
 //   dE/dq = A J^T g,   d2E/dq2 = A (J^T H J + sum_k g_k d2s_k/dq2),
 // (g, H) = (dPsi/ds, d2Psi/ds2) of the material at s_T, J = ds/dq (sim/shell_strain.hpp);
-// each element's 18x18 Hessian is projected to positive semi-definite before assembly.
+// each element's Hessian is replaced by a positive semi-definite model (sim/hessian_model.hpp)
+// before assembly.
 // Elements are evaluated in parallel (OpenMP); each thread accumulates into its own arrays.
 #include <vector>
 
 #include "sim/element_rest.hpp"
+#include "sim/hessian_model.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "sim/material_fn.hpp"
 #include "sim/mesh.hpp"
@@ -30,11 +32,12 @@ double shell_energy(const Mesh& mesh, const std::vector<ElementRest>& rest, cons
                     const Eigen::VectorXd& x, const double* theta_ref = nullptr);
 
 // Value; gradient added to grad (3n, all vertices); if pattern and values are given, the
-// element Hessians added to values (free vertices only), projected to PSD unless `project` is
-// false (tests compare the exact Hessian with finite differences).
+// element Hessians added to values (free vertices only), in the given model (Exact: tests
+// compare it with finite differences).
 double shell_energy_derivatives(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
-                                double* values, ShellTimings* timings = nullptr, bool project = true,
+                                double* values, ShellTimings* timings = nullptr,
+                                HessianModel model = HessianModel::ProjectedElement,
                                 const double* theta_ref = nullptr);
 
 // Per-triangle strain at x (for output and tests).

@@ -107,6 +107,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   P.rayleigh_alpha = scene.rayleigh_alpha;
   P.rayleigh_beta = scene.rayleigh_beta;
   P.air_drag = scene.air_drag;
+  P.hessian = set.hessian;
   const std::vector<int> prescribed = prescribed_vertices(scene.handles);
   const DofMap D = make_dof_map(P.mesh.num_vertices(), prescribed);
   const HessianPattern pat = make_hessian_pattern(P.mesh, D);

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "sim/blas_threads.hpp"
 #include "sim/material_source.hpp"
 #include "sim/scene_json.hpp"
 #include "sim/simulation.hpp"
@@ -41,9 +42,9 @@ void write_scene_info(const std::string& dir, const sim::Scene& s) {
 
 void register_sim(CLI::App& app) {
   struct Opts {
-    std::string scene, out, material, integrator, direction = "course", solver = "auto", render;
+    std::string scene, out, material, integrator, direction = "course", solver = "auto", render, hessian = "projected";
     double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1;
-    int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0;
+    int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0, blas_threads = 0;
     bool no_frames = false, profile = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
@@ -86,7 +87,18 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--air", o->air, "Air drag on the normal velocity, kg/(m^2 s) (default 0)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--solver", o->solver, "Sparse solver: auto (CHOLMOD when built with it), ldlt (Eigen), cholmod")
       ->check(CLI::IsMember({"auto", "ldlt", "cholmod"}));
+  cmd->add_option("--hessian", o->hessian,
+                  "PSD model of each element's Hessian for the Newton solves: projected (the exact 18x18 element "
+                  "Hessian projected onto the PSD cone) or split (the material's 6x6 d2Psi/ds2 and the in-plane "
+                  "curvature term projected, the bending curvature term left out: cheaper per iteration; "
+                  "docs/sim.md)")
+      ->check(CLI::IsMember({"projected", "split"}));
   cmd->add_option("--threads", o->threads, "Threads for the element loop (default: all cores)")->check(CLI::Range(1, 1024));
+  cmd->add_option("--blas-threads", o->blas_threads,
+                  "Threads of OpenBLAS inside CHOLMOD's factorization (default 1: on a machine of few shared cores "
+                  "its spinning workers slow the element loop more than they speed the factorization; "
+                  "docs/benchmarks.md). Ignored with the reference BLAS")
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--render", o->render, "Frames to draw as PNG, e.g. 0,30,90, or none (default: the scene's)");
   cmd->add_flag("--no-frames", o->no_frames, "Do not write an OBJ per frame (timing runs)");
   cmd->add_flag("--profile", o->profile, "Time each step's parts (strain, material, chain rule, projection, assembly, solve)");
@@ -135,9 +147,11 @@ void register_sim(CLI::App& app) {
       throw std::invalid_argument(mpath + " carries no areal density (a baked file gets the attribute areal_density from "
                                   "its dataset; older files have none): give --density KG_PER_M2, e.g. --density 0.3");
     if (o->threads > 0) omp_set_num_threads(o->threads);
+    set_blas_threads(o->blas_threads > 0 ? o->blas_threads : 1);
     SimSettings set;
     set.out_dir = o->out;
     set.solver = parse_solver_kind(o->solver);
+    set.hessian = parse_hessian_model(o->hessian);
     set.profile = o->profile;
     set.write_frames = !o->no_frames;
     fs::create_directories(o->out);
@@ -145,11 +159,12 @@ void register_sim(CLI::App& app) {
     const int threads = o->threads > 0 ? o->threads : omp_get_max_threads();
     std::fprintf(stderr,
                  "sim %s: %d triangles, %d vertices; material %s (%s)%s; density %g kg/m^2%s; %s, dt %g s x %d "
-                 "substep(s), %d %s; %d thread(s)\n",
+                 "substep(s), %d %s; %d thread(s); %s\n",
                  s.name.c_str(), s.mesh.num_triangles(), s.mesh.num_vertices(), mpath.c_str(), mat.kind.c_str(),
                  mat.missing_terms.empty() ? "" : (", absent terms count as 0: " + mat.missing_terms).c_str(), rho,
                  rho_from.empty() ? "" : (" (from " + rho_from + ")").c_str(), integrator_name(s.integrator), s.dt,
-                 s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames", threads);
+                 s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames", threads,
+                 blas_description());
     const auto start = std::chrono::steady_clock::now();
     const bool tty = stderr_is_tty();
     int last_line = -1;

@@ -46,7 +46,8 @@ Eigen::MatrixXd dense_hessian(const Mesh& m, const std::vector<ElementRest>& res
   const HessianPattern pat = make_hessian_pattern(m, D);
   Eigen::SparseMatrix<double> H = pat.matrix;
   VectorXd g = VectorXd::Zero(x.size());
-  shell_energy_derivatives(m, rest, material(), x, g, &pat, H.valuePtr(), nullptr, project);
+  shell_energy_derivatives(m, rest, material(), x, g, &pat, H.valuePtr(), nullptr,
+                           project ? HessianModel::ProjectedElement : HessianModel::Exact);
   const Eigen::SparseMatrix<double> full = H.selfadjointView<Eigen::Lower>();
   return Eigen::MatrixXd(full);
 }
