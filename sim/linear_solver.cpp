@@ -74,6 +74,13 @@ Eigen::VectorXd LinearSolver::solve(const Eigen::VectorXd& b) const {
   return impl_->ldlt.solve(b);
 }
 
+double LinearSolver::factor_nonzeros() const {
+#ifdef YARNHOM_HAVE_CHOLMOD
+  if (impl_->use_cholmod) return impl_->analysed_size < 0 ? 0.0 : double(impl_->cholmod.cholmod().lnz);
+#endif
+  return impl_->analysed_size < 0 ? 0.0 : double(impl_->ldlt.matrixL().nestedExpression().nonZeros());
+}
+
 const char* LinearSolver::name() const { return impl_->use_cholmod ? "cholmod" : "ldlt"; }
 
 }  // namespace yarnhom::sim

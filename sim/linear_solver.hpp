@@ -29,6 +29,8 @@ class LinearSolver {
   bool factorize(const Eigen::SparseMatrix<double>& A);
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
   const char* name() const;
+  // Nonzeros of the last factor (L, or L and D), for benchmarks; 0 before the first factorization.
+  double factor_nonzeros() const;
 
  private:
   struct Impl;

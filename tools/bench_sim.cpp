@@ -13,6 +13,7 @@
 #include "bake/bake_table.hpp"
 #include "bake/material.hpp"
 #include "core/jet_layout.hpp"
+#include "sim/blas_threads.hpp"
 #include "sim/dof_map.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "sim/linear_solver.hpp"
@@ -148,8 +149,10 @@ void BM_ElementPsdProjection(benchmark::State& state) {
 }
 BENCHMARK(BM_ElementPsdProjection);
 
-// Energy + gradient + projected Hessian of the whole sheet (all threads).
+// Energy + gradient + PSD Hessian of the whole sheet (all threads); range(1): the Hessian model,
+// 0 ProjectedElement (18x18 eigenproblems), 1 Split (6x6; sim/hessian_model.hpp).
 void BM_Assembly(benchmark::State& state) {
+  const HessianModel model = state.range(1) ? HessianModel::Split : HessianModel::ProjectedElement;
   const int n = side(int(state.range(0)));
   const Mesh m = make_rectangle(0.5, 0.5, n, n);
   const auto rest = make_element_rests(m);
@@ -162,12 +165,16 @@ void BM_Assembly(benchmark::State& state) {
   for (auto _ : state) {
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-    benchmark::DoNotOptimize(shell_energy_derivatives(m, rest, psi, x, g, &pat, H.valuePtr(), &tm));
+    benchmark::DoNotOptimize(shell_energy_derivatives(m, rest, psi, x, g, &pat, H.valuePtr(), &tm, model));
   }
   state.counters["triangles"] = m.num_triangles();
   state.counters["projected_%"] = 100.0 * tm.projected / std::max<long>(1, tm.elements);
+  state.SetLabel(hessian_model_name(model));
 }
-BENCHMARK(BM_Assembly)->Arg(1000)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Assembly)
+    ->Args({1000, 0})->Args({4000, 0})->Args({16000, 0})
+    ->Args({1000, 1})->Args({4000, 1})->Args({16000, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // One numeric factorization of the Newton matrix (mass term added so that it is definite).
 void BM_Factorize(benchmark::State& state) {
@@ -187,7 +194,8 @@ void BM_Factorize(benchmark::State& state) {
   solver.factorize(H);  // analysis outside the timing
   for (auto _ : state) benchmark::DoNotOptimize(solver.factorize(H));
   state.counters["unknowns"] = H.rows();
-  state.SetLabel(solver.name());
+  state.counters["nnz_L"] = solver.factor_nonzeros();
+  state.SetLabel(std::string(solver.name()) + ", " + blas_description());
 }
 BENCHMARK(BM_Factorize)
     ->Args({1000, 0})->Args({4000, 0})->Args({16000, 0})
