@@ -21,7 +21,8 @@ namespace {
 
 struct ProduceOpts {
   std::string pattern, out, preset = "quick", terms = "all", material, ranges;
-  int threads = 0, sectors = 8;
+  int threads = 0, sectors = 8, branch_rounds = 30;
+  double branch_tolerance = 0.05;
   double rest_time_limit = 300;
   bool no_warm = false;
   bool no_predictor = false;
@@ -86,6 +87,8 @@ void run(const ProduceOpts& o) {
   opt.terms = parse_term_list(o.terms);
   opt.threads = o.threads > 0 ? o.threads : default_threads();
   opt.sectors = o.sectors;
+  opt.branch_rounds = o.branch_rounds;
+  opt.branch_tolerance = o.branch_tolerance;
   opt.rest_time_limit = o.rest_time_limit;
   opt.warm_start = !o.no_warm;
   opt.predictor = !o.no_predictor;
@@ -102,6 +105,14 @@ void run(const ProduceOpts& o) {
     std::fprintf(stderr, "%sproduce %s: %d/%d nodes, %d failed, %s elapsed, ETA %s%s", tty ? "\r" : "",
                  p.name.c_str(), done, total, failed, format_seconds(el).c_str(), format_seconds(eta).c_str(),
                  tty ? "   " : "\n");
+    if (tty && done == total) std::fprintf(stderr, "\n");
+  };
+  double last_branch = -1;
+  opt.branch_progress = [&](int round, int done, int total, int moved, double el) {
+    if (el - last_branch < (tty ? 0.2 : 10.0) && done < total) return;
+    last_branch = el;
+    std::fprintf(stderr, "%sproduce %s: branch round %d: %d/%d nodes tried, %d moved to a lower branch, %s elapsed%s",
+                 tty ? "\r" : "", p.name.c_str(), round, done, total, moved, format_seconds(el).c_str(), tty ? "   " : "\n");
     if (tty && done == total) std::fprintf(stderr, "\n");
   };
   std::printf("produce %s -> %s (preset %s, %zu terms, %d threads, %s)\n", p.name.c_str(), o.out.c_str(),
@@ -123,10 +134,20 @@ void run(const ProduceOpts& o) {
   if (!rep.checkpoint_error.empty())
     std::fprintf(stderr, "yarnhom: warning: the checkpoint stopped being written (%s); the dataset is complete, but a "
                  "run killed then would have started over\n", rep.checkpoint_error.c_str());
-  std::printf("%-5s %6s %7s %10s %9s %9s\n", "term", "nodes", "failed", "mean iter", "solve s", "cpu s");
-  for (const auto& t : rep.terms)
-    std::printf("%-5s %6d %7d %10.1f %9.2f %9.2f\n", t.name.c_str(), t.nodes, t.failed, t.mean_iterations, t.seconds,
-                t.cpu_seconds);
+  // "branches": grid edges whose energies and gradients disagree by more than the tolerance
+  // (two equilibrium branches side by side), as first solved -> in the dataset; "worst" is the
+  // largest mismatch left, relative to the term's typical edge change (yarn/branch_check.hpp).
+  std::printf("%-5s %6s %7s %10s %9s %9s %17s %6s %7s\n", "term", "nodes", "failed", "mean iter", "solve s", "cpu s",
+              "branches", "moved", "worst");
+  for (const auto& t : rep.terms) {
+    char br[32];
+    std::snprintf(br, sizeof br, "%d -> %d /%d", t.inconsistent_before, t.inconsistent_after, t.edges);
+    std::printf("%-5s %6d %7d %10.1f %9.2f %9.2f %17s %6d %6.0f%%\n", t.name.c_str(), t.nodes, t.failed,
+                t.mean_iterations, t.seconds, t.cpu_seconds, br, t.moved, 100 * t.worst_after);
+  }
+  std::printf("branches    edges whose energies and gradients disagree by more than %g of the term's typical edge "
+              "change (trapezoid rule), as first solved -> after %d branch round(s) (docs/produce.md)\n",
+              opt.branch_tolerance, rep.branch_rounds);
   std::printf("total       %.1f s wall, %.1f s in solves (%.1f s CPU)\n", rep.seconds, rep.solve_seconds,
               rep.solve_cpu_seconds);
   std::printf("topology    every stored node certified: no yarn segment pair within d_min = %.3g x 2r along its "
@@ -170,6 +191,17 @@ void register_produce(CLI::App& app) {
                   "Wall-clock limit of the rest relaxation in seconds, 0: none (default 300; the largest "
                   "paper pattern relaxes in a few seconds)")
       ->check(finite_non_negative());
+  cmd->add_option("--branch-rounds", o->branch_rounds,
+                  "Rounds of the branch pass, 0..200 (default 30; 0: off): after every node is solved, both nodes "
+                  "of each grid edge whose energies and gradients disagree are solved again from the other's "
+                  "equilibrium, and a node keeps the lower-energy branch, which its neighbours then try in the next "
+                  "round; until nothing moves. The data then lie on the lowest branch their neighbours reach "
+                  "(docs/produce.md). Needs warm starts")
+      ->check(CLI::Range(0, 200));
+  cmd->add_option("--branch-tolerance", o->branch_tolerance,
+                  "Trapezoid-rule mismatch along a grid edge, relative to the term's typical edge change, above "
+                  "which the edge counts as two branches (default 0.05)")
+      ->check(CLI::Range(1e-6, 10.0));
   cmd->add_flag("--no-warm-start", o->no_warm, "Solve every node from the rest state (for comparison)");
   cmd->add_flag("--no-predictor", o->no_predictor,
                 "Warm start from the parent's solution as it is (supplement Eq. 2-3 only), without our "

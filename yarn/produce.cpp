@@ -2,17 +2,20 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "yarn/branch_check.hpp"
 #include "yarn/energy_density.hpp"
 #include "yarn/produce_checkpoint.hpp"
 
@@ -53,7 +56,17 @@ struct Node {
   // started runs) is read back when a child still to be solved starts from it.
   int record = -1;
   bool state_needed = false;
+  // As first solved (before the branch pass), and whether the pass moved it.
+  double psi1 = 0;
+  Strain grad1 = Strain::Zero();
+  bool moved = false;
+  int branch_record = -1;  // resumed: its last branch record (-1: none)
 };
+
+// Checkpoint records of the branch pass: a node moved to a lower branch (its new state), and the
+// end of a round (term -1, index = the round). A round is resumed only when its end is recorded.
+constexpr char kLowerBranch[] = "lower-branch";
+constexpr char kBranchRound[] = "branch-round";
 
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   std::ostringstream f;
@@ -64,7 +77,8 @@ std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance
     << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd"
     << " sectors=" << std::max(1, opt.sectors)
-    << " start=" << (!opt.warm_start ? "cold" : opt.predictor ? "warm+predictor" : "warm");
+    << " start=" << (!opt.warm_start ? "cold" : opt.predictor ? "warm+predictor" : "warm")
+    << " branch=" << (opt.warm_start ? opt.branch_rounds : 0) << "/" << opt.branch_tolerance;
   for (const auto& t : opt.terms) f << " " << t.name;
   for (int i = 0; i < 6; ++i) {
     const Range r = pattern_range(p.name, i, opt.ranges);
@@ -121,8 +135,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       for (int d = 0; d < t.dim(); ++d) n.s[t.indices[d]] = pts[k][d];
       if (n.t.norm() == 0) {  // the origin is the rest state
         n.done = true;
-        n.psi = r0.psi;
-        n.grad = r0.grad;
+        n.psi = n.psi1 = r0.psi;
+        n.grad = n.grad1 = r0.grad;
         n.status = "converged";
       }
       term_nodes_idx[ti].push_back(static_cast<int>(nodes.size()));
@@ -138,13 +152,45 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   CheckpointContents cc;
   if (!opt.checkpoint.empty()) {
     cc = read_checkpoint(opt.checkpoint, fp, rest_sig, rest);
+    // Branch records after the last recorded round end belong to a round the kill cut short:
+    // they are dropped (and cut from the file), and that round runs again from its start.
+    {
+      size_t keep = cc.records.size();
+      for (size_t k = cc.records.size(); k-- > 0;) {
+        if (cc.records[k].status == kBranchRound) break;
+        if (cc.records[k].status == kLowerBranch) keep = k;
+      }
+      if (keep < cc.records.size()) {
+        cc.dropped_bytes += cc.valid_bytes - cc.records[keep].offset;
+        cc.valid_bytes = cc.records[keep].offset;
+        cc.records.resize(keep);
+      }
+    }
     for (size_t k = 0; k < cc.records.size(); ++k) {
       const CheckpointRecord& rec = cc.records[k];
+      if (rec.status == kBranchRound) {
+        rep.branch_rounds = std::max(rep.branch_rounds, rec.index);
+        continue;
+      }
       if (rec.term < 0 || rec.term >= int(opt.terms.size()) || rec.index < 0 ||
           rec.index >= int(term_nodes_idx[rec.term].size()))
         throw FileError(opt.checkpoint, "", "a record of node " + std::to_string(rec.index) + " of term " +
                                                 std::to_string(rec.term) + ", which this run does not have; remove it to start over");
       Node& n = nodes[term_nodes_idx[rec.term][rec.index]];
+      if (rec.status == kLowerBranch) {
+        if (!n.done || n.status != "converged" || !rec.has_state)
+          throw FileError(opt.checkpoint, "", "a branch record of node " + std::to_string(rec.index) + " of term " +
+                                                  std::to_string(rec.term) + " before its first solve; remove it to start over");
+        n.psi = rec.psi;
+        n.grad = rec.grad;
+        n.iterations = rec.iterations;
+        n.seconds = rec.seconds;
+        n.cpu_seconds = rec.cpu_seconds;
+        n.min_separation = rec.min_distance;
+        n.branch_record = static_cast<int>(k);
+        n.moved = true;
+        continue;
+      }
       if (n.done || rec.status != "converged") continue;  // failures are tried again
       if (opt.warm_start && !rec.has_state)
         throw FileError(opt.checkpoint, "", "a converged sample without its state in a warm-started run; remove it to start over");
@@ -153,8 +199,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       n.iterations = rec.iterations;
       n.seconds = rec.seconds;
       n.cpu_seconds = rec.cpu_seconds;
-      n.psi = rec.psi;
-      n.grad = rec.grad;
+      n.psi = n.psi1 = rec.psi;
+      n.grad = n.grad1 = rec.grad;
       n.record = static_cast<int>(k);
       n.min_separation = rec.min_distance;
       ++rep.resumed;
@@ -224,6 +270,9 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   }
   std::mutex mu;
   const int threads = std::max(1, opt.threads);
+  // Every converged node's state, for the branch pass (null: not kept, or resumed: read back
+  // from the checkpoint when the pass needs it).
+  std::vector<std::shared_ptr<const RveState>> final_state(nodes.size());
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (int ti = 0; ti < static_cast<int>(tasks.size()); ++ti) {
@@ -320,8 +369,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       if (!ok && parent_state) ok = continuation(*parent_state, 4);
       if (!ok && opt.warm_start) ok = continuation(rest, 1);
       if (!ok) ok = continuation(rest, 8);
-      n.psi = r.psi;
-      n.grad = r.grad;
+      n.psi = n.psi1 = r.psi;
+      n.grad = n.grad1 = r.grad;
       n.status = ok ? "converged" : refused ? "topology_refused" : to_string(r.report.status);
       n.iterations = iters;
       n.seconds = secs;
@@ -329,6 +378,7 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       n.done = true;
       if (ok) {
         n.min_separation = st.certificate.min_distance;
+        if (opt.warm_start && opt.branch_rounds > 0) final_state[task.nodes[li]] = std::make_shared<RveState>(st);
       }
       if (ok && opt.warm_start) {
         states[li] = std::move(st);
@@ -365,6 +415,188 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         }
       }
       if (opt.progress) opt.progress(done, total, failed, elapsed());
+    }
+  }
+  // The branch pass (ProduceOptions::branch_rounds, yarn/branch_check.hpp).
+  auto term_edges = [&](size_t ti, bool first) {
+    const Term& t = opt.terms[ti];
+    std::vector<Eigen::VectorXd> x, g;
+    std::vector<double> psi;
+    std::vector<bool> ok;
+    for (int id : term_nodes_idx[ti]) {
+      const Node& n = nodes[id];
+      x.push_back(n.t);
+      psi.push_back(first ? n.psi1 : n.psi);
+      Eigen::VectorXd gi(t.dim());
+      for (int d = 0; d < t.dim(); ++d) gi[d] = (first ? n.grad1 : n.grad)[t.indices[d]];
+      g.push_back(gi);
+      ok.push_back(n.status == "converged");
+    }
+    const int m = points_per_axis(opt.preset, t.dim());
+    return std::make_pair(grid_edges(t.dim(), m, x, psi, g, ok), edge_scales(t.dim(), m, x, g, ok));
+  };
+  if (opt.warm_start && opt.branch_rounds > 0) {
+    // Grid neighbours of every node, and each term's smallest meaningful energy gain.
+    std::vector<std::vector<int>> neighbours(nodes.size());
+    std::vector<double> term_gain(opt.terms.size());
+    for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+      const auto [edges, scale] = term_edges(ti, false);
+      term_gain[ti] = 1e-2 * opt.branch_tolerance * *std::min_element(scale.begin(), scale.end());
+      for (const GridEdge& e : edges) {
+        neighbours[term_nodes_idx[ti][e.a]].push_back(term_nodes_idx[ti][e.b]);
+        neighbours[term_nodes_idx[ti][e.b]].push_back(term_nodes_idx[ti][e.a]);
+      }
+    }
+    // The nodes that moved in the previous round: their neighbours try the new branch too (a
+    // lower branch spreads along the grid one node per round). A resumed run recomputes them
+    // from the records of the last round it finished.
+    std::vector<int> moved_last;
+    if (rep.branch_rounds > 0)
+      for (size_t k = 0, round = 0; k < cc.records.size(); ++k) {
+        if (cc.records[k].status == kBranchRound) {
+          round = cc.records[k].index;
+          continue;
+        }
+        if (cc.records[k].status == kLowerBranch && int(round) == rep.branch_rounds - 1)
+          moved_last.push_back(term_nodes_idx[cc.records[k].term][cc.records[k].index]);
+      }
+    for (int round = rep.branch_rounds + 1; round <= opt.branch_rounds; ++round) {
+      // Each inconsistent edge: both its nodes try the other's branch. Every node's energy may
+      // only go down, by more than a small part of the flagging threshold, so no node ever
+      // returns to a branch it left and the rounds end.
+      std::map<int, std::vector<int>> sources;
+      std::map<int, double> min_gain;
+      for (int id : moved_last)
+        for (int nb : neighbours[id])
+          if (nodes[nb].t.norm() > 0 && nodes[nb].status == "converged")
+            sources[nb].push_back(id), min_gain[nb] = term_gain[nodes[nb].term];
+      for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
+        const auto [edges, scale] = term_edges(ti, false);
+        const double gain = term_gain[ti];
+        for (const GridEdge& e : inconsistent_edges(edges, opt.branch_tolerance)) {
+          // The origin is the rest state by definition (s = 0 is the relaxed tile): never a target.
+          const int a = term_nodes_idx[ti][e.a], b = term_nodes_idx[ti][e.b];
+          if (nodes[a].t.norm() > 0) sources[a].push_back(b), min_gain[a] = gain;
+          if (nodes[b].t.norm() > 0) sources[b].push_back(a), min_gain[b] = gain;
+        }
+      }
+      if (sources.empty()) break;
+      // The sources' states, read back serially (the checkpoint file is one stream).
+      for (auto& [target, from] : sources) {
+        std::sort(from.begin(), from.end());
+        from.erase(std::unique(from.begin(), from.end()), from.end());
+        for (int id : from) {
+          if (final_state[id]) continue;
+          const Node& n = nodes[id];
+          const int record = n.branch_record >= 0 ? n.branch_record : n.record;
+          if (n.t.norm() == 0) {
+            final_state[id] = std::make_shared<RveState>(rest);
+          } else if (record >= 0 && cc.records[record].has_state) {
+            CheckpointRecord rec = cc.records[record];
+            read_checkpoint_state(opt.checkpoint, rest, rec);
+            final_state[id] = std::make_shared<RveState>(std::move(rec.state));
+          }
+        }
+      }
+      struct Move {
+        bool moved = false;
+        double psi = 0, seconds = 0, cpu_seconds = 0;
+        int iterations = 0;
+        Strain grad = Strain::Zero();
+        std::shared_ptr<const RveState> state;
+      };
+      std::vector<int> targets;
+      for (const auto& [target, from] : sources) targets.push_back(target);
+      std::vector<Move> moves(targets.size());
+      int round_done = 0, round_moved = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+      for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
+        const Node& n = nodes[targets[k]];
+        Move& mv = moves[k];
+        double best = n.psi - min_gain[targets[k]];
+        for (int src : sources[targets[k]]) {
+          if (!final_state[src]) continue;
+          // From the neighbour's equilibrium straight to this node's strain, else in 4 steps.
+          for (int steps : {1, 4}) {
+            RveState y = *final_state[src];
+            const Strain s0 = y.anchor.s;
+            DensityResult r;
+            bool ok = true;
+            for (int j = 1; j <= steps && ok; ++j) {
+              r = energy_density(rve, j == steps ? n.s : Strain(s0 + (n.s - s0) * (double(j) / steps)), y, opt.solve);
+              mv.seconds += r.report.seconds;
+              mv.cpu_seconds += r.report.cpu_seconds;
+              mv.iterations += r.report.iterations;
+              ok = r.report.converged();
+            }
+            if (!ok) continue;
+            if (y.certificate.valid && r.psi < best) {
+              best = r.psi;
+              mv.moved = true;
+              mv.psi = r.psi;
+              mv.grad = r.grad;
+              mv.state = std::make_shared<RveState>(std::move(y));
+            }
+            break;
+          }
+        }
+        std::lock_guard<std::mutex> lock(mu);
+        ++round_done;
+        if (mv.moved) ++round_moved;
+        if (opt.branch_progress) opt.branch_progress(round, round_done, int(targets.size()), round_moved, elapsed());
+      }
+      // Applied together, in node order: the round's result does not depend on the threads.
+      moved_last.clear();
+      for (size_t k = 0; k < targets.size(); ++k) {
+        Node& n = nodes[targets[k]];
+        const Move& mv = moves[k];
+        n.iterations += mv.iterations;
+        n.seconds += mv.seconds;
+        n.cpu_seconds += mv.cpu_seconds;
+        if (!mv.moved) continue;
+        n.psi = mv.psi;
+        n.grad = mv.grad;
+        n.moved = true;
+        moved_last.push_back(targets[k]);
+        n.min_separation = mv.state->certificate.min_distance;
+        final_state[targets[k]] = mv.state;
+        if (ck) {
+          CheckpointRecord rec;
+          rec.term = n.term;
+          rec.index = n.index;
+          rec.iterations = n.iterations;
+          rec.seconds = n.seconds;
+          rec.cpu_seconds = n.cpu_seconds;
+          rec.status = kLowerBranch;
+          rec.psi = n.psi;
+          rec.grad = n.grad;
+          rec.min_distance = n.min_separation;
+          rec.has_state = true;
+          rec.state = *mv.state;
+          try {
+            append_checkpoint(ck, opt.checkpoint, rec, rest);
+          } catch (const std::exception& e) {
+            checkpoint_error = e.what();
+            std::fclose(ck);
+            ck = nullptr;
+          }
+        }
+      }
+      if (ck) {
+        CheckpointRecord rec;
+        rec.term = -1;
+        rec.index = round;
+        rec.status = kBranchRound;
+        try {
+          append_checkpoint(ck, opt.checkpoint, rec, rest);
+        } catch (const std::exception& e) {
+          checkpoint_error = e.what();
+          std::fclose(ck);
+          ck = nullptr;
+        }
+      }
+      rep.branch_rounds = round;
+      if (round_moved == 0) break;
     }
   }
   if (ck) std::fclose(ck);
@@ -419,6 +651,14 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       }
     }
     sum.mean_iterations = sum.nodes ? double(iters) / sum.nodes : 0;
+    {
+      const auto before = term_edges(ti, true).first, after = term_edges(ti, false).first;
+      sum.edges = static_cast<int>(after.size());
+      sum.inconsistent_before = static_cast<int>(inconsistent_edges(before, opt.branch_tolerance).size());
+      sum.inconsistent_after = static_cast<int>(inconsistent_edges(after, opt.branch_tolerance).size());
+      for (const GridEdge& e : after) sum.worst_after = std::max(sum.worst_after, e.relative);
+      for (int id : ids) sum.moved += nodes[id].moved;
+    }
     for (int id : ids)
       if (ok(nodes[id])) rep.min_separation = std::min(rep.min_separation, nodes[id].min_separation);
     rep.solve_seconds += sum.seconds;

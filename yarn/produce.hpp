@@ -35,8 +35,18 @@ struct ProduceOptions {
   double rest_time_limit = 300;
   std::string checkpoint;                // sidecar file of finished samples and their states
                                          // (yarn/produce_checkpoint.hpp; "" = none)
+  // The branch pass (yarn/branch_check.hpp): after every node is solved, each grid edge whose
+  // energies and gradients disagree (trapezoid mismatch above branch_tolerance of the term's
+  // typical edge change) has both its nodes solved again from the other's equilibrium; a node
+  // moves to that branch when its energy there is lower, and its grid neighbours then try its
+  // new branch in the next round. Repeated until nothing moves, at most branch_rounds times
+  // (0: off; needs warm_start, which keeps the states).
+  int branch_rounds = 30;
+  double branch_tolerance = 0.05;
   // Called (from one thread at a time) after each finished node.
   std::function<void(int done, int total, int failed, double elapsed)> progress;
+  // Called (from one thread at a time) after each node of a branch round.
+  std::function<void(int round, int done, int total, int moved, double elapsed)> branch_progress;
 };
 
 int points_per_axis(const std::string& preset, int dim);  // throws for an unknown preset
@@ -50,6 +60,10 @@ struct TermSummary {
   std::string name;
   int nodes = 0, failed = 0, resumed = 0;
   double mean_iterations = 0, seconds = 0, cpu_seconds = 0;  // solves' wall and CPU time
+  // The branch pass: grid edges, those inconsistent as first solved and in the dataset, and the
+  // nodes that moved to a lower-energy branch (this run and the resumed rounds together).
+  int edges = 0, inconsistent_before = 0, inconsistent_after = 0, moved = 0;
+  double worst_after = 0;          // largest relative mismatch left (branch_check.hpp)
 };
 struct Failure {
   std::string term;
@@ -67,6 +81,7 @@ struct ProduceReport {
   // the nodes solved in this run (rest state included); +inf if none.
   double min_separation = std::numeric_limits<double>::infinity();
   int resumed = 0;                 // samples read back from the checkpoint
+  int branch_rounds = 0;           // branch rounds that ran (resumed ones included)
   std::uintmax_t checkpoint_dropped_bytes = 0;  // a record cut by the kill, removed (solved again)
   std::string checkpoint_error;    // why the checkpoint stopped being written ("" = it was not)
   double seconds = 0;              // wall time of this run
