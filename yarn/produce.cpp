@@ -460,7 +460,9 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         if (cc.records[k].status == kLowerBranch && int(round) == rep.branch_rounds - 1)
           moved_last.push_back(term_nodes_idx[cc.records[k].term][cc.records[k].index]);
       }
-    for (int round = rep.branch_rounds + 1; round <= opt.branch_rounds; ++round) {
+    // A finished round that moved nothing ended the pass (a resumed run must not run another).
+    const bool finished = rep.branch_rounds > 0 && moved_last.empty();
+    for (int round = rep.branch_rounds + 1; !finished && round <= opt.branch_rounds; ++round) {
       // Each inconsistent edge: both its nodes try the other's branch. Every node's energy may
       // only go down, by more than a small part of the flagging threshold, so no node ever
       // returns to a branch it left and the rounds end.

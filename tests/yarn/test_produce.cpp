@@ -94,6 +94,9 @@ TEST(Produce, WarmAndColdStartsReachTheSameEquilibria) {
   // 18.078, cold 17.954 J/m^2; hylc-calibrated at (-0.1, 0.4): warm 1.7370, cold 1.7276): the
   // box is now (-0.1, 0.3).
   opt.ranges = {{0, {-0.1, 0.3}}, {2, {-0.1, 0.3}}};
+  // Algorithm 1's warm starts as they are: the branch pass may then move a node to a lower
+  // branch than either start finds (BranchPassOnlyLowersTheEnergy).
+  opt.branch_rounds = 0;
   const Pattern p = tiny();
   const Dataset warm = produce(p, opt);
   opt.warm_start = false;
@@ -199,6 +202,7 @@ TEST(Produce, KilledRunResumesToTheSameDatasetBitForBit) {
   opt.terms = parse_term_list("2,25");
   opt.solve.tolerance = 1e-12;
   opt.threads = 2;
+  opt.branch_rounds = 0;  // the first pass's records (the branch pass: KilledBranchPassResumes...)
   const Pattern p = tiny();
   const auto dir = std::filesystem::temp_directory_path() / ("yarnhom_test_resume_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
@@ -343,4 +347,111 @@ TEST(Produce, PredictorDoesNotChangeTheEquilibria) {
     for (int i = 0; i < with.terms[t].n; ++i)
       EXPECT_NEAR(with.terms[t].raw[i], without.terms[t].raw[i], 1e-6 * with.psi0) << with.terms[t].term.name << " " << i;
   }
+}
+
+namespace {
+// Where each record of a checkpoint ends, and whether it is one of the branch pass's (its status
+// string "lower-branch" or "branch-round" lies inside it).
+struct RecordMap {
+  std::vector<size_t> ends;            // ends[0]: the header's end; ends[k]: record k's end
+  std::vector<std::string> kind;       // per record: "node", "lower-branch" or "branch-round"
+};
+RecordMap map_records(const std::string& whole) {
+  RecordMap m;
+  m.ends = record_ends(whole);
+  for (size_t k = 1; k < m.ends.size(); ++k) {
+    const std::string rec = whole.substr(m.ends[k - 1], m.ends[k] - m.ends[k - 1]);
+    m.kind.push_back(rec.find("lower-branch") != std::string::npos   ? "lower-branch"
+                     : rec.find("branch-round") != std::string::npos ? "branch-round"
+                                                                      : "node");
+  }
+  return m;
+}
+}  // namespace
+
+// The branch pass (ProduceOptions::branch_rounds): every node ends at an energy no higher than
+// its first solve found (it only ever moves to a lower branch), certified; the data disagree
+// with themselves along fewer grid edges; and no node is ever moved at the origin (the rest
+// state). On stocktiny's shear-bending term, where the first pass leaves branches side by side.
+TEST(Produce, BranchPassOnlyLowersTheEnergyAndRemovesBranchJumps) {
+  ProduceOptions opt;
+  opt.preset = "quick";
+  opt.terms = parse_term_list("13");
+  opt.threads = 2;
+  const Pattern p = tiny();
+  ProduceReport with_rep, without_rep;
+  const Dataset with = produce(p, opt, &with_rep);
+  opt.branch_rounds = 0;
+  const Dataset without = produce(p, opt, &without_rep);
+  ASSERT_EQ(with_rep.failures.size(), 0u);
+  ASSERT_EQ(with.terms.size(), 1u);
+  ASSERT_EQ(with.terms[0].n, 81);
+  ASSERT_EQ(without.terms[0].n, 81);
+  const TermSummary& t = with_rep.terms[0];
+  EXPECT_GT(t.moved, 0) << "the first pass leaves branches side by side on this term";
+  EXPECT_EQ(without_rep.terms[0].moved, 0);
+  EXPECT_EQ(t.inconsistent_before, without_rep.terms[0].inconsistent_after);
+  EXPECT_LT(t.inconsistent_after, t.inconsistent_before);
+  EXPECT_GE(with_rep.branch_rounds, 2) << "a moved node's neighbours try its branch in the next round";
+  int lower = 0;
+  for (int i = 0; i < 81; ++i) {
+    EXPECT_EQ(with.terms[0].strain[2 * i], without.terms[0].strain[2 * i]);
+    EXPECT_LE(with.terms[0].raw[i], without.terms[0].raw[i] + 1e-12) << "node " << i;
+    lower += with.terms[0].raw[i] < without.terms[0].raw[i] - 1e-9;
+    if (with.terms[0].strain[2 * i] == 0 && with.terms[0].strain[2 * i + 1] == 0) {
+      EXPECT_EQ(with.terms[0].raw[i], 0.0);
+    }
+  }
+  EXPECT_EQ(lower, t.moved);
+  EXPECT_GE(with_rep.min_separation, RveOptions{}.barrier_dmin * 2 * p.radius);
+  validate_dataset(with, "branch pass");
+}
+
+// A run killed inside the branch pass resumes to the uninterrupted run's dataset, bit for bit:
+// the records of a round whose end is not recorded are dropped and the round runs again.
+TEST(Produce, KilledBranchPassResumesToTheSameDatasetBitForBit) {
+  ProduceOptions opt;
+  opt.preset = "quick";
+  opt.terms = parse_term_list("13");
+  opt.threads = 2;
+  const Pattern p = tiny();
+  const auto dir = std::filesystem::temp_directory_path() / ("yarnhom_test_branch_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto ck = dir / "ds.h5.partial";
+  opt.checkpoint = ck.string();
+  ProduceReport full_rep;
+  const Dataset full = produce(p, opt, &full_rep);
+  ASSERT_GT(full_rep.terms[0].moved, 0);
+  const std::string whole = slurp(ck);
+  const RecordMap m = map_records(whole);
+  ASSERT_EQ(m.ends.back(), whole.size());
+  // Record positions: the last node record, the first branch record, the first round's end,
+  // a branch record of a later round.
+  int last_node = -1, first_branch = -1, first_round_end = -1, later = -1;
+  for (int k = 0; k < int(m.kind.size()); ++k) {
+    if (m.kind[k] == "node") last_node = k;
+    if (m.kind[k] == "lower-branch" && first_branch < 0) first_branch = k;
+    if (m.kind[k] == "branch-round" && first_round_end < 0) first_round_end = k;
+    if (m.kind[k] == "lower-branch" && first_round_end >= 0 && later < 0) later = k;
+  }
+  ASSERT_EQ(last_node, 80 - 1) << "80 nodes (the origin is not recorded) before the branch pass";
+  ASSERT_EQ(first_branch, 80);
+  ASSERT_GT(first_round_end, first_branch);
+  ASSERT_GT(later, first_round_end);
+  const std::vector<std::pair<size_t, const char*>> cuts = {
+      {(m.ends[first_branch] + m.ends[first_branch + 1]) / 2, "inside the first branch record"},
+      {m.ends[first_round_end] - 2, "inside the first round's end"},
+      {m.ends[later + 1], "inside a later round"},
+  };
+  for (const auto& [bytes, what] : cuts) {
+    spit(ck, whole.substr(0, bytes));
+    ProduceReport rep;
+    const Dataset resumed = produce(p, opt, &rep);
+    EXPECT_EQ(rep.resumed, 80) << what;
+    expect_identical(full, resumed, what);
+    EXPECT_EQ(rep.terms[0].moved, full_rep.terms[0].moved) << what;
+    EXPECT_EQ(rep.branch_rounds, full_rep.branch_rounds) << what;
+    EXPECT_EQ(slurp(ck).size(), whole.size()) << what << ": the cut round was recorded again, once";
+  }
+  std::filesystem::remove_all(dir);
 }
