@@ -38,6 +38,7 @@ namespace fs = std::filesystem;
 
 struct StripOpts {
   std::string pattern, out, size = "0.05,0.10", direction = "course", stretch = "1.0:1.7:0.05", material;
+  std::string newton = "trust-region";
   double clamp = 0.005, connector_scale = 1.0 / 200, tolerance = 1e-10, rest_time_limit = 300;
   int max_iterations = 300, threads = 0;
   bool no_bind_off = false, restart = false, no_plots = false, verbose = false;
@@ -120,6 +121,8 @@ void run(const StripOpts& o) {
     throw std::invalid_argument("--size: expected WIDTH,LENGTH in metres, both positive (e.g. 0.05,0.10)");
   if (o.direction != "course" && o.direction != "wale")
     throw std::invalid_argument("--direction: 'course' or 'wale', got '" + o.direction + "'");
+  if (o.newton != "trust-region" && o.newton != "switched")
+    throw std::invalid_argument("--newton: 'trust-region' or 'switched', got '" + o.newton + "'");
   const std::vector<double> stretches = parse_stretches(o.stretch);
   if (!(2 * o.clamp < size[1]))
     throw std::invalid_argument("--clamp " + std::to_string(o.clamp) + ": the two clamp bands cover the whole strip (" +
@@ -145,7 +148,8 @@ void run(const StripOpts& o) {
       << "pattern = " << raw.name << "\npattern_fnv1a = " << std::hex << digest << std::dec
       << "\nwidth = " << spec.width << "\nlength = " << spec.length << "\ndirection = " << o.direction
       << "\nclamp = " << o.clamp << "\nconnector_scale = " << spec.connector_scale
-      << "\nbind_off = " << (spec.bind_off ? "true" : "false") << "\ntolerance = " << o.tolerance << "\n"
+      << "\nbind_off = " << (spec.bind_off ? "true" : "false") << "\ntolerance = " << o.tolerance
+      << "\nnewton = " << o.newton << "\n"
       << yarn::format_material(mat);
   const std::string settings = set.str();
   const fs::path dir(o.out);
@@ -217,6 +221,8 @@ void run(const StripOpts& o) {
   sopt.tolerance = o.tolerance;
   sopt.max_iterations = o.max_iterations;
   sopt.verbose = o.verbose;
+  sopt.method = o.newton == "switched" ? yarn::StripSolveOptions::Method::kSwitched
+                                       : yarn::StripSolveOptions::Method::kTrustRegion;
   std::vector<yarn::StretchStep> done;
   yarn::StripState st = P.initial_state();
   double from = 1.0;
@@ -263,6 +269,7 @@ void run(const StripOpts& o) {
         "checked_moves,status\n";
     for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
     write_text(dir / "force.csv", csv);
+    if (o.verbose) std::fprintf(stderr, "yarnhom strip: %s\n", r.solve.summary().c_str());
     const size_t left = stretches.size() - k - 1;
     std::fprintf(stderr,
                  "yarnhom strip: step %zu/%zu  stretch %.3f  %.6g N/m  (clamps %.4g / %.4g N)  %d iterations  %s  "
@@ -336,6 +343,10 @@ void register_strip(CLI::App& app) {
       ->check(finite_positive());
   cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's, in (0, 1] (default 1/200)")
       ->check(finite_range(1e-12, 1.0, "in (0, 1]"));
+  cmd->add_option("--newton", o->newton,
+                  "Newton method of each load step: trust-region (default: Steihaug-CG on the exact Hessian, "
+                  "preconditioned by the projected Hessian's Cholesky factor) or switched (line searches on the "
+                  "projected or the exact Hessian: the first method, slower; docs/strip.md section 4)");
   cmd->add_flag("--no-bind-off", o->no_bind_off, "Knits: no boundary course above and below (the edges may unravel)");
   cmd->add_option("--material", o->material, "Material file: 'key = value' lines (docs/yarn_material.md)")->check(existing_regular_file());
   cmd->add_option("--tolerance", o->tolerance, "Relative residual each load step converges to (default 1e-10)")

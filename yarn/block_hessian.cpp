@@ -78,10 +78,12 @@ int BlockHessian::position(int row, int col) const {
   return base + (count_[B] - b) + col_offset_[B][it - v.begin()] + a;
 }
 
-void BlockHessian::gather(const std::vector<std::vector<double>>& values) {
+void BlockHessian::gather(const std::vector<std::vector<double>>& values, const BlockHessian* base) {
   double* out = matrix_.valuePtr();
   const int nnz = static_cast<int>(matrix_.nonZeros());
-  std::fill(out, out + nnz, 0.0);
+  if (base && base->matrix_.nonZeros() != nnz) throw std::logic_error("BlockHessian: gather onto a different pattern");
+  if (base) std::copy(base->matrix_.valuePtr(), base->matrix_.valuePtr() + nnz, out);
+  else std::fill(out, out + nnz, 0.0);
   for (const auto& v : values)
     for (int k = 0; k < nnz; ++k) out[k] += v[k];
 }

@@ -34,8 +34,9 @@ class BlockHessian {
   // into `values`; every pair of nodes it couples must be in the pattern.
   template <int M>
   void add(const int* idx, const Eigen::Matrix<double, M, M>& H, std::vector<double>& values) const;
-  // Sums the threads' values into the matrix.
-  void gather(const std::vector<std::vector<double>>& values);
+  // Sums the threads' values into the matrix (plus `base`'s values, same pattern, if given:
+  // a matrix assembled as another one plus a correction).
+  void gather(const std::vector<std::vector<double>>& values, const BlockHessian* base = nullptr);
 
   // The lower triangle (row >= column), compressed.
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "yarn/frames.hpp"
 #include "yarn/rod.hpp"
+#include "yarn/segment_distance.hpp"
 
 namespace yarnhom::yarn {
 namespace {
@@ -293,42 +295,161 @@ Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
     return out;
   };
 
-  struct Port {
-    Eigen::Vector3d x;  // the last continuation vertex
-    int dir, side;
-  };
   std::vector<std::vector<PathVertex>> exit_end(order.size()), exit_start(order.size());
   for (size_t i = 0; i + 1 < order.size(); ++i) {
     exit_end[i] = continuation(int(i), true);
     exit_start[i + 1] = continuation(int(i) + 1, false);
   }
-  // Bridge columns: beyond the farthest port of each side.
-  double column[2][2];
-  for (int a = 0; a < 2; ++a) column[a][0] = column[a][1] = -1e300;
-  auto note_port = [&](const std::vector<PathVertex>& ex, int dir, int side) {
-    if (ex.empty()) return;
-    double& c = column[dir][side > 0 ? 1 : 0];
-    c = std::max(c, side * ex.back().x[dir] + clearance);
+  // Connector routing in lanes. A connector leaves its port A straight out along the row's
+  // axis, at the port's own across coordinate and height, to its lane: a plane normal to that
+  // axis beyond every port of its side; in that plane it runs to the other port's across
+  // coordinate and height (straight, or over the top or under the bottom of everything), and
+  // goes straight back in to port B. Two connectors' legs along the axis are as far apart as
+  // their ports (points of different rows of the tiling), and what can come near a
+  // connector's run inside its lane is another connector's leg passing through that plane on
+  // its way to a lane further out: so lanes are filled greedily from the inside, each
+  // connector in the innermost lane where one of its runs keeps clear of every port whose
+  // leg passes through the lane and of the runs already there. (The first design, one
+  // shared column at alternating heights 3r above and below the mid-plane with vertical
+  // risers at the ports, left slip-stitch strips with risers 0.20 x 2r apart: their ports lie
+  // up to 4.3r out of the mid-plane, and the risers crossed each other's heights.)
+  const double gap = clearance;  // 1.25 x 2r: beyond the contact kernel's reach
+  struct Connector {
+    Eigen::Vector3d a, b;                // ports
+    int da = 0, sa = 1, db = 0, sb = 1;  // axis and side of each port
+    int lane = 0;
+    std::vector<Eigen::Vector2d> run;  // (across, z) polyline in the lane, from a to b
+    std::vector<Eigen::Vector3d> corners;
   };
-  for (size_t i = 0; i < order.size(); ++i) {
-    const int dir = T.yarns[order[i].yarn].dir;
-    note_port(exit_end[i], dir, order[i].sign);
-    note_port(exit_start[i], dir, -order[i].sign);
+  std::vector<Connector> conns(order.empty() ? 0 : order.size() - 1);
+  for (size_t i = 0; i + 1 < order.size(); ++i) {
+    Connector& c = conns[i];
+    c.a = exit_end[i].back().x;
+    c.b = exit_start[i + 1].back().x;
+    c.da = T.yarns[order[i].yarn].dir;
+    c.sa = order[i].sign;
+    c.db = T.yarns[order[i + 1].yarn].dir;
+    c.sb = -order[i + 1].sign;
   }
-  // A point at the column of (dir, side), across coordinate `across`, height z.
-  auto at = [&](int dir, int side, double across, double z) {
-    Eigen::Vector3d q(0, 0, z);
-    q[dir] = side * column[dir][side > 0 ? 1 : 0];
-    q[1 - dir] = across;
-    return q;
+  auto side_index = [](int side) { return side > 0 ? 1 : 0; };
+  // Per (axis, side): the first lane (beyond the farthest port); one height beyond everything
+  // kept and every port, for runs over the top or under the bottom.
+  double first_lane[2][2], top = 0;
+  for (int a = 0; a < 2; ++a) first_lane[a][0] = first_lane[a][1] = -1e300;
+  for (const Connector& c : conns) {
+    double& fa = first_lane[c.da][side_index(c.sa)];
+    double& fb = first_lane[c.db][side_index(c.sb)];
+    fa = std::max(fa, c.sa * c.a[c.da] + gap);
+    fb = std::max(fb, c.sb * c.b[c.db] + gap);
+    top = std::max({top, std::abs(c.a[2]), std::abs(c.b[2])});
+  }
+  for (const Row& row : order)
+    for (long k = row.k_first; k <= row.k_last; ++k) top = std::max(top, std::abs(T.position(row, k)[2]));
+  const double height = top + gap;
+  // Distances in a lane's plane, (across, z).
+  auto in_plane = [](const Eigen::Vector2d& p) { return Eigen::Vector3d(p[0], p[1], 0); };
+  auto seg2 = [&](const Eigen::Vector2d& p0, const Eigen::Vector2d& p1, const Eigen::Vector2d& q0, const Eigen::Vector2d& q1) {
+    return segment_distance(in_plane(p0), in_plane(p1), in_plane(q0), in_plane(q1));
   };
-  // Height of a connector's run along its column: successive connectors of one side alternate
-  // between +3r and -3r (3 x 2r apart). Rows are ordered by their centre lines, but the ports'
-  // across coordinates need not be monotone (a slip-stitch row's end sits beyond the next
-  // row's: measured on honeycomb and cartridge belt rib, whose connectors crossed each other
-  // in the mid-plane); at alternating heights two connectors of one side never meet.
-  int on_side[2][2] = {{0, 0}, {0, 0}};
-  auto level = [&](int dir, int side) { return (on_side[dir][side > 0 ? 1 : 0]++ % 2 == 0 ? 3.0 : -3.0) * r; };
+  auto across_z = [](const Eigen::Vector3d& x, int dir) { return Eigen::Vector2d(x[1 - dir], x[2]); };
+  int lanes_used[2][2] = {{0, 0}, {0, 0}};
+  for (int a = 0; a < 2; ++a)
+    for (int sd : {-1, 1}) {
+      std::vector<int> left;  // connectors with both ports on this side, not yet in a lane
+      for (size_t i = 0; i < conns.size(); ++i)
+        if (conns[i].da == a && conns[i].db == a && conns[i].sa == sd) left.push_back(int(i));
+      // The corner connector's legs pass through every lane of its sides (it is outermost).
+      std::vector<Eigen::Vector2d> fixed;
+      for (const Connector& c : conns)
+        if (c.da != c.db) {
+          if (c.da == a && c.sa == sd) fixed.push_back(across_z(c.a, a));
+          if (c.db == a && c.sb == sd) fixed.push_back(across_z(c.b, a));
+        }
+      // How far a run must stay from the legs passing through its lane and from the other
+      // runs there: beyond the contact kernel's reach (2r), or, where two ports of this side
+      // are closer than that (rows in contact), as far as those ports are from each other
+      // (their legs along the axis are that close anyway).
+      std::vector<Eigen::Vector2d> ports = fixed;
+      for (int ci : left) {
+        ports.push_back(across_z(conns[ci].a, a));
+        ports.push_back(across_z(conns[ci].b, a));
+      }
+      double need = 2 * r;
+      for (size_t i = 0; i < ports.size(); ++i)
+        for (size_t j = 0; j < i; ++j) need = std::min(need, 0.99 * (ports[i] - ports[j]).norm());
+      for (int lane = 0; !left.empty(); ++lane) {
+        std::vector<int> placed;
+        for (int ci : left) {
+          Connector& c = conns[ci];
+          std::vector<Eigen::Vector2d> obstacles = fixed;
+          for (int o : left)
+            if (o != ci && std::find(placed.begin(), placed.end(), o) == placed.end()) {
+              obstacles.push_back(across_z(conns[o].a, a));
+              obstacles.push_back(across_z(conns[o].b, a));
+            }
+          const Eigen::Vector2d pa = across_z(c.a, a), pb = across_z(c.b, a);
+          const std::vector<Eigen::Vector2d> options[3] = {
+              {pa, pb}, {pa, {pa[0], height}, {pb[0], height}, pb}, {pa, {pa[0], -height}, {pb[0], -height}, pb}};
+          auto clearance_of = [&](const std::vector<Eigen::Vector2d>& run) {
+            double d = std::numeric_limits<double>::infinity();
+            for (size_t k = 0; k + 1 < run.size(); ++k) {
+              for (const Eigen::Vector2d& q : obstacles) d = std::min(d, seg2(q, q, run[k], run[k + 1]));
+              for (int o : placed)
+                for (size_t m = 0; m + 1 < conns[o].run.size(); ++m)
+                  d = std::min(d, seg2(run[k], run[k + 1], conns[o].run[m], conns[o].run[m + 1]));
+            }
+            return d;
+          };
+          int chosen = -1, best = 0;
+          double best_d = -1;
+          for (int k = 0; k < 3 && chosen < 0; ++k) {
+            const double d = clearance_of(options[k]);
+            if (d >= need) chosen = k;
+            if (d > best_d) best_d = d, best = k;
+          }
+          // Nothing fits: the first connector of a lane takes its best run anyway (the strip's
+          // certificate then says whether it is good enough); the others wait for a lane.
+          if (chosen < 0 && !placed.empty()) continue;
+          c.run = options[chosen < 0 ? best : chosen];
+          c.lane = lane;
+          placed.push_back(ci);
+        }
+        lanes_used[a][side_index(sd)] = lane + 1;
+        std::vector<int> rest;
+        for (int ci : left)
+          if (std::find(placed.begin(), placed.end(), ci) == placed.end()) rest.push_back(ci);
+        left = std::move(rest);
+      }
+    }
+  auto lane_position = [&](int a, int sd, int lane) { return sd * (first_lane[a][side_index(sd)] + lane * gap); };
+  for (Connector& c : conns) {
+    std::vector<Eigen::Vector3d>& q = c.corners;
+    q.push_back(c.a);
+    if (c.da == c.db) {
+      const double at = lane_position(c.da, c.sa, c.lane);
+      for (const Eigen::Vector2d& p : c.run) {
+        Eigen::Vector3d x(0, 0, p[1]);
+        x[c.da] = at;
+        x[1 - c.da] = p[0];
+        q.push_back(x);
+      }
+    } else {
+      // The corner connector (wovens: the last weft to the first warp), in lanes beyond every
+      // other lane of both its sides, over the top of everything.
+      Eigen::Vector3d x = c.a;
+      x[c.da] = lane_position(c.da, c.sa, lanes_used[c.da][side_index(c.sa)]);
+      q.push_back(x);
+      x[2] = height;
+      q.push_back(x);
+      x[c.db] = lane_position(c.db, c.sb, lanes_used[c.db][side_index(c.sb)]);
+      q.push_back(x);
+      x[c.da] = c.b[c.da];
+      q.push_back(x);
+      x[2] = c.b[2];
+      q.push_back(x);
+    }
+    q.push_back(c.b);
+  }
 
   // Assemble the path.
   std::vector<PathVertex> path;
@@ -342,35 +463,14 @@ Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
       if (k == b) break;
     }
     if (i + 1 == order.size()) break;
-    // Connector to the next row.
-    const Row& nxt = order[i + 1];
-    const int d0 = T.yarns[row.yarn].dir, d1 = T.yarns[nxt.yarn].dir;
-    const Port A{exit_end[i].back().x, d0, row.sign};
-    const Port B{exit_start[i + 1].back().x, d1, -nxt.sign};
+    // Connector to the next row: the continuation out of this row, the routed corners, the
+    // continuation into the next one (traversed inwards).
     for (const PathVertex& v : exit_end[i]) path.push_back(v);
-    // Straight out from A's port to its column, along the column(s), straight in to B's port:
-    // every turn a right angle, so the connector never folds back onto itself.
-    std::vector<Eigen::Vector3d> corners;
-    const double z = level(A.dir, A.side);
-    // Up (or down) to the connector's height at the port first: two ports of one side at the
-    // same across coordinate then have their legs 6r apart, not converging in the mid-plane.
-    auto raised = [&](const Eigen::Vector3d& x) { return Eigen::Vector3d(x[0], x[1], z); };
-    corners.push_back(A.x);
-    corners.push_back(raised(A.x));
-    corners.push_back(at(A.dir, A.side, A.x[1 - A.dir], z));
-    if (A.dir != B.dir) {
-      Eigen::Vector3d c(0, 0, z);
-      c[A.dir] = A.side * column[A.dir][A.side > 0 ? 1 : 0];
-      c[B.dir] = B.side * column[B.dir][B.side > 0 ? 1 : 0];
-      corners.push_back(c);
-    }
-    corners.push_back(at(B.dir, B.side, B.x[1 - B.dir], z));
-    corners.push_back(raised(B.x));
-    corners.push_back(B.x);
+    const std::vector<Eigen::Vector3d>& corners = conns[i].corners;
     std::vector<Eigen::Vector3d> pts;
     for (size_t c = 0; c + 1 < corners.size(); ++c)
       if ((corners[c + 1] - corners[c]).norm() > 1e-9 * h) leg(corners[c], corners[c + 1], h, pts);
-    pts.pop_back();  // B.x is the continuation's last vertex, added below
+    pts.pop_back();  // B's port is the continuation's last vertex, added below
     for (const Eigen::Vector3d& q : pts) path.push_back({q, StripSource{}, -1, 0, false});
     for (auto it = exit_start[i + 1].rbegin(); it != exit_start[i + 1].rend(); ++it) path.push_back(*it);
     ++s.connectors;

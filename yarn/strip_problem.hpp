@@ -84,9 +84,11 @@ class StripProblem {
   // Energy; with grad: the gradient in the unknowns; with hess: the Hessian (its pattern set
   // to the elements present now, with the contact pairs up to hessian_margin beyond reach,
   // so that it rarely changes); with vertex_grad: dE/dx of every vertex, clamped or not.
+  // With projected (hess given too): the Hessian with every element's Hessian projected
+  // (Projection::kAll) in the same pass, for a solver that uses both.
   double evaluate(const StripState& st, Eigen::VectorXd* grad = nullptr, BlockHessian* hess = nullptr,
                   EnergyParts* parts = nullptr, std::vector<Eigen::Vector3d>* vertex_grad = nullptr,
-                  Projection project = Projection::kNone) const;
+                  Projection project = Projection::kNone, BlockHessian* projected = nullptr) const;
 
   // st += alpha dy in the unknowns.
   void apply_step(const Eigen::VectorXd& dy, double alpha, StripState& st) const;

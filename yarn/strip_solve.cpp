@@ -30,6 +30,11 @@ double strip_residual(const StripProblem& P, const Eigen::VectorXd& g) {
 }
 
 StripSolveReport solve_strip(const StripProblem& P, StripState& st, const StripSolveOptions& opt) {
+  return opt.method == StripSolveOptions::Method::kTrustRegion ? solve_strip_trust(P, st, opt)
+                                                               : solve_strip_switched(P, st, opt);
+}
+
+StripSolveReport solve_strip_switched(const StripProblem& P, StripState& st, const StripSolveOptions& opt) {
   const auto t0 = Clock::now();
   StripSolveReport rep;
   const int N = P.num_dofs();

@@ -1,12 +1,19 @@
 #pragma once
-// Newton's method for a yarn strip's equilibrium (the clamps where they are). The same
-// algorithm as the RVE's (yarn/newton.hpp: exact Hessian, definiteness shift
-// H + mu diag(|H_ii|) raised tenfold until Cholesky succeeds, plain Newton retried after full
-// steps, Armijo backtracking, shift raised when no step decreases the energy; the same
-// relative residual; the RVE's collision filter: every line search starts at 0.9 of the
-// fraction of the step that CCD finds safe, and every accepted step is added to the state's
-// certificate), with two differences for a strip: a projected model far from equilibrium
-// (below), and a sparse Newton system (CHOLMOD supernodal above `dense_limit` unknowns).
+// Newton's method for a yarn strip's equilibrium (the clamps where they are), two ways:
+//
+// - trust region (the default, strip_solve_trust.cpp): Steihaug-CG on the exact Hessian,
+//   preconditioned by the Cholesky factor of the projected Hessian (every element's Hessian
+//   made positive semi-definite), the radius adapted to the ratio of actual to predicted
+//   decrease; it follows the negative curvature of the soft directions a stretched strip has
+//   near its equilibrium instead of creeping along them;
+// - switched (strip_solve.cpp, the first method, kept for comparison): the RVE's algorithm
+//   (yarn/newton.hpp: definiteness shift, Armijo backtracking) on a projected model far from
+//   equilibrium and the exact one near it.
+//
+// Both use the RVE's relative residual and its collision filter (every step is shortened to
+// 0.9 of the fraction of it that CCD finds safe, and every accepted step is added to the
+// state's certificate), and a sparse Newton system (CHOLMOD supernodal above `dense_limit`
+// unknowns).
 #include <string>
 
 #include "yarn/newton.hpp"
@@ -19,6 +26,11 @@ struct StripSolveOptions {
   int max_iterations = 200;
   int dense_limit = 300;     // unknowns up to which the Newton system is factored densely
   bool verbose = false;      // one line per iteration on stderr
+  // The Newton method (docs/strip.md section 4): kTrustRegion, Steihaug-CG on the exact
+  // Hessian preconditioned by the projected one's Cholesky factor (strip_solve_trust.cpp);
+  // kSwitched, line searches on the projected or the exact model, switched (the first
+  // method, kept for comparison: docs/benchmarks.md).
+  enum class Method { kTrustRegion, kSwitched } method = Method::kTrustRegion;
 };
 
 struct StripSolveReport {
@@ -40,7 +52,9 @@ struct StripSolveReport {
 double strip_residual(const StripProblem& P, const Eigen::VectorXd& grad);
 
 // Minimizes the energy over the unknowns from `st`, which holds the result on return
-// whatever the status.
+// whatever the status, by opt.method.
 StripSolveReport solve_strip(const StripProblem& P, StripState& st, const StripSolveOptions& opt = {});
+StripSolveReport solve_strip_switched(const StripProblem& P, StripState& st, const StripSolveOptions& opt);
+StripSolveReport solve_strip_trust(const StripProblem& P, StripState& st, const StripSolveOptions& opt);
 
 }  // namespace yarnhom::yarn

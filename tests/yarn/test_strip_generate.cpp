@@ -34,7 +34,9 @@ const StripTile& relaxed(const std::string& name) {
   static std::map<std::string, StripTile> cache;
   auto it = cache.find(name);
   if (it == cache.end()) {
-    const Pattern p = name == "knit" ? tiny_knit() : builtin_pattern(name);
+    const Pattern p = name == "knit"                ? tiny_knit()
+                      : name.rfind("shared:", 0) == 0 ? read_pyp(shared_pattern(name.substr(7)))
+                                                      : builtin_pattern(name);
     it = cache.emplace(name, rest_tile(p, Material{})).first;
   }
   return it->second;
@@ -386,6 +388,35 @@ TEST(StripGenerate, NothingIntersectsAtRest) {
       EXPECT_NEAR(st.certificate.min_distance, d * 2 * s.radius, 1e-15);
       EXPECT_LT(d, 1.0) << pat << ": yarns are in contact (the check can fail)";
     }
+}
+
+TEST(StripGenerate, ThickPatternsConnectorsStartCertified) {
+  // The slip-stitch honeycomb is 8.6r thick (its ports lie up to 4.3r out of the mid-plane) and
+  // its rows' ends overlap across: the first connector routing (one column per side at
+  // alternating heights +-3r, vertical risers at the ports) started this 2 x 2.5-tile course
+  // strip with two risers 0.20 x 2r apart, below the barrier's d_min. Routed in lanes
+  // (docs/strip.md section 1), every pair is beyond the barrier's reach (0.5 x 2r) at rest.
+  YARN_REQUIRE_SHARED_PATTERNS();
+  for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+    const Strip s = small_strip("shared:slip_stitch_honeycomb", axis, 2.0, 2.5);
+    ASSERT_GE(s.connectors, 4) << to_string(axis) << ": too few connectors to test the routing";
+    const StripProblem P(s, Material{}, std::vector<signed char>(s.size(), 0));
+    const StripState st = P.initial_state();
+    const double d = P.min_distance(st);
+    EXPECT_GT(d, 0.5) << to_string(axis);
+    EXPECT_TRUE(st.certificate.valid) << to_string(axis) << ": " << st.certificate.failure;
+    // Every connector vertex lies outside the kept rows' extent along its row's axis or in a
+    // bind-off row: the connectors never run through the fabric.
+    int outside = 0;
+    for (int v = 0; v < s.size(); ++v)
+      if (s.source[v].vertex < 0) {
+        const double half_x = 0.5 * s.extent_x(), half_y = 0.5 * s.extent_y();
+        outside += std::abs(s.x[v][0]) > half_x || std::abs(s.x[v][1]) > half_y;
+      }
+    int added = 0;
+    for (int v = 0; v < s.size(); ++v) added += s.source[v].vertex < 0;
+    EXPECT_EQ(outside, added) << to_string(axis);
+  }
 }
 
 TEST(StripGenerate, RefusesWhatItCannotBuild) {
