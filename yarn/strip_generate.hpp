@@ -21,10 +21,12 @@
 //    for woven patterns the wefts are joined first, then a corner connector leads to the
 //    nearest warp, then the warps are joined at the top and bottom edges. A connector leaves
 //    a row along the row's own continuation in the tiling (original geometry: it cannot
-//    touch anything kept) until it is 2.5 radii beyond everything kept, then runs straight
-//    out to a column 2.5 radii beyond the farthest such port, along the column to the level
-//    of the next row's port, straight in to it, and back along that row's continuation
-//    (right-angled turns: a connector never folds back onto itself).
+//    touch anything kept) until it is 2.5 radii beyond everything kept (its port), runs
+//    straight out along the row's axis at the port's own height to its lane (a plane beyond
+//    every port of that side), inside the lane straight or over or under everything to the
+//    next row's port's across coordinate and height, and straight back in along that row's
+//    continuation. Lanes are filled greedily from the inside so that no run comes near a
+//    leg passing through its lane (docs/strip.md section 1).
 // 5. Rest state: kept rows take the pattern's (rest lengths, curvatures, twists, reference
 //    frames; a row traversed against the pattern's direction gets theta -> -theta and
 //    k2 -> -k2, which leaves its energy unchanged). Boundary yarn (connectors and bind-off
