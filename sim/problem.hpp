@@ -25,7 +25,7 @@ struct Problem {
   double rayleigh_alpha = 0;    // mass-proportional damping, 1/s
   double rayleigh_beta = 0;     // stiffness-proportional damping, s
   double air_drag = 0;          // drag on the normal velocity, kg/(m^2 s) (force -c A (v.n) n)
-  HessianModel hessian = HessianModel::ProjectedElement;  // PSD model of the element Hessians
+  HessianModel hessian = HessianModel::Split;  // PSD model of the element Hessians (sim/hessian_model.hpp)
 };
 
 // Rest elements, vertex areas and masses from the mesh. areal_density may be 0 (no inertia

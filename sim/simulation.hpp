@@ -23,7 +23,7 @@ namespace yarnhom::sim {
 struct SimSettings {
   std::string out_dir;           // "" = write nothing
   SolverKind solver = SolverKind::Auto;
-  HessianModel hessian = HessianModel::ProjectedElement;  // sim/hessian_model.hpp
+  HessianModel hessian = HessianModel::Split;  // sim/hessian_model.hpp
   bool profile = false;          // time split per step (adds clock reads per element)
   bool write_frames = true;
 };

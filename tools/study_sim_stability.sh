@@ -15,6 +15,8 @@
 # A run counts as stable when it finishes SECONDS (default 1) of simulated time with every value
 # finite, no triangle beyond physical strain (yarnhom sim's exit status 0) and no vertex faster
 # than 5 m/s (a drop of 5 cm reaches 1 m/s). Steps tried: 1/30, 1/60, 1/120, ... down to 1/7680 s.
+# SIM_ARGS in the environment: more `yarnhom sim` options for every run (e.g. "--hessian split",
+# which changes the linearized integrator's stiffness matrix too).
 set -euo pipefail
 data=$1
 out=$2
@@ -23,6 +25,7 @@ secs=${4:-1}
 density=${5:-}
 y=${YARNHOM:-build/tools/yarnhom}
 recipe=${RECIPE:-default}
+read -r -a sim_args <<< "${SIM_ARGS:-}"
 mkdir -p "$out"
 dens=()
 [ -n "$density" ] && dens=(--density "$density")
@@ -40,7 +43,7 @@ for wc in 1e-3 0; do
     local t0=$(date +%s.%N)
     set +e
     "$y" sim drape -o "$dir" --material "$b" "${dens[@]}" --resolution "$res" --integrator "$1" --dt "$2" \
-      --frames "$3" --render none --no-frames -q > "$dir.log" 2>&1
+      --frames "$3" "${sim_args[@]}" --render none --no-frames -q > "$dir.log" 2>&1
     local st=$?
     set -e
     local t1=$(date +%s.%N)
