@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -462,6 +463,10 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       }
     // A finished round that moved nothing ended the pass (a resumed run must not run another).
     const bool finished = rep.branch_rounds > 0 && moved_last.empty();
+    // (target, source) pairs already tried that did not move the target: the same two states
+    // give the same solve, so they are tried again only after one of the two has moved. (Not
+    // checkpointed: a resumed run tries them once more, finds the same, and ends the same.)
+    std::set<std::pair<int, int>> tried;
     for (int round = rep.branch_rounds + 1; !finished && round <= opt.branch_rounds; ++round) {
       // Each inconsistent edge: both its nodes try the other's branch. Every node's energy may
       // only go down, by more than a small part of the flagging threshold, so no node ever
@@ -481,6 +486,12 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
           if (nodes[a].t.norm() > 0) sources[a].push_back(b), min_gain[a] = gain;
           if (nodes[b].t.norm() > 0) sources[b].push_back(a), min_gain[b] = gain;
         }
+      }
+      for (auto it = sources.begin(); it != sources.end();) {
+        auto& from = it->second;
+        from.erase(std::remove_if(from.begin(), from.end(), [&](int src) { return tried.count({it->first, src}) > 0; }),
+                   from.end());
+        it = from.empty() ? sources.erase(it) : std::next(it);
       }
       if (sources.empty()) break;
       // The sources' states, read back serially (the checkpoint file is one stream).
@@ -548,6 +559,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         if (opt.branch_progress) opt.branch_progress(round, round_done, int(targets.size()), round_moved, elapsed());
       }
       // Applied together, in node order: the round's result does not depend on the threads.
+      for (const auto& [target, from] : sources)
+        for (int src : from) tried.insert({target, src});
       moved_last.clear();
       for (size_t k = 0; k < targets.size(); ++k) {
         Node& n = nodes[targets[k]];
@@ -560,6 +573,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         n.grad = mv.grad;
         n.moved = true;
         moved_last.push_back(targets[k]);
+        for (auto it = tried.begin(); it != tried.end();)
+          it = it->first == targets[k] || it->second == targets[k] ? tried.erase(it) : std::next(it);
         n.min_separation = mv.state->certificate.min_distance;
         final_state[targets[k]] = mv.state;
         if (ck) {
