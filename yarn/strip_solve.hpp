@@ -31,6 +31,9 @@ struct StripSolveOptions {
   // kSwitched, line searches on the projected or the exact model, switched (the first
   // method, kept for comparison: docs/benchmarks.md).
   enum class Method { kTrustRegion, kSwitched } method = Method::kTrustRegion;
+  // Trust region: iterations without halving the residual after which the switched method
+  // finishes the solve (also when the radius collapses below 1e-6 of the first).
+  int trust_stall_iterations = 120;
 };
 
 struct StripSolveReport {
@@ -45,6 +48,7 @@ struct StripSolveReport {
   int shifted = 0;                // iterations that needed the definiteness shift
   int filtered = 0;               // iterations whose step the filter shortened
   int line_search_retries = 0;
+  bool fallback = false;          // the trust region stalled and the switched method finished
   bool converged() const { return status == SolveStatus::kConverged; }
   std::string summary() const;
 };

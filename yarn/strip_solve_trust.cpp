@@ -21,6 +21,9 @@
 // few iterations and the step is Newton's. Each iteration costs one assembly (both Hessians in
 // one pass), one factorization and a few sparse products and triangular solves.
 //
+// When it stalls (the radius below 1e-6 of the first, or the residual not halved for
+// `trust_stall_iterations`), the switched method finishes the solve from where it is.
+//
 // Delta follows the ratio rho of the actual to the predicted decrease: below 0.25 it shrinks
 // to a quarter of the step, above 0.75 with a step on the boundary it doubles. A step is taken
 // when it decreases the energy (Armijo on the model's decrease). The collision filter
@@ -112,6 +115,9 @@ StripSolveReport solve_strip_trust(const StripProblem& P, StripState& st, const 
   HessianFactor M(N, opt.dense_limit);
   using Projection = StripProblem::Projection;
   double delta = -1;  // trust radius in the M norm; set from the first preconditioned step
+  double first_delta = -1;
+  double best_residual = std::numeric_limits<double>::infinity();
+  int best_at = 0;
   double mu = 0;      // shift of M, only where the projected Hessian is singular
   int cg_total = 0;
   auto finish = [&](SolveStatus status) {
@@ -137,6 +143,38 @@ StripSolveReport solve_strip_trust(const StripProblem& P, StripState& st, const 
       return finish(SolveStatus::kConverged);
     }
     if (it >= opt.max_iterations) return finish(SolveStatus::kMaxIterations);
+    // Stalled: the radius collapsed, or the residual has not halved for a long while.
+    // Measured on the paper's stockinette at 140 %: the exact model was good only within radii
+    // 1e-6 to 1e-8 of the first one, the residual bounced between 1e-2 and 1e3 for 250 iterations; the
+    // switched method converged from the same start in 127. The rest of the solve is left to
+    // it. (In every other load step measured the radius stayed above 2e-5 of the first and the
+    // residual halved at least every 100 iterations.)
+    if (rep.residual < 0.5 * best_residual) {
+      best_residual = rep.residual;
+      best_at = it;
+    }
+    if (it - best_at >= opt.trust_stall_iterations || (delta > 0 && delta < 1e-6 * first_delta)) {
+      if (opt.verbose)
+        std::fprintf(stderr, "  trust region stalled after %d iterations (residual %.3e, radius %.2e of the first): switched method\n",
+                     it, rep.residual, delta / first_delta);
+      StripSolveOptions rest = opt;
+      rest.max_iterations = opt.max_iterations - it;
+      const StripSolveReport sw = solve_strip_switched(P, st, rest);
+      rep.status = sw.status;
+      rep.iterations = it + sw.iterations;
+      rep.residual = sw.residual;
+      rep.energy = sw.energy;
+      rep.assembly_seconds += sw.assembly_seconds;
+      rep.factor_seconds += sw.factor_seconds;
+      rep.line_search_seconds += sw.line_search_seconds;
+      rep.shifted += sw.shifted;
+      rep.filtered += sw.filtered;
+      rep.line_search_retries += sw.line_search_retries;
+      rep.fallback = true;
+      rep.seconds = since(t0);
+      rep.analyses = M.analyses() + sw.analyses;
+      return rep;
+    }
     M.assemble(Bp.matrix());
     rep.assembly_seconds += since(ta);
 
@@ -153,7 +191,7 @@ StripSolveReport solve_strip_trust(const StripProblem& P, StripState& st, const 
     const double eta = std::clamp(std::sqrt(rep.residual), 1e-6, 0.1);
     if (delta < 0) {
       const Eigen::VectorXd z = M.solve(g);
-      delta = std::sqrt(std::max(g.dot(z), 0.0));  // the projected Newton step's M norm
+      first_delta = delta = std::sqrt(std::max(g.dot(z), 0.0));  // the projected Newton step's M norm
     }
     // One trial: the Steihaug step for radius `radius`, filtered, and its energy.
     struct Trial {

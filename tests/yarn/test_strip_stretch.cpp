@@ -318,16 +318,22 @@ TEST(StripProblem, BothHessiansInOnePassAreTheExactAndTheProjectedOne) {
 }
 
 TEST(StripSolve, TrustRegionAndSwitchedNewtonReachTheSameEquilibrium) {
+  // The trust region, the switched method, and the trust region handing over to the switched
+  // method after its first iteration (as it does when it stalls) from the same start.
   const Reference& R = reference();
-  StretchStep r[2];
-  int k = 0;
-  for (auto method : {StripSolveOptions::Method::kTrustRegion, StripSolveOptions::Method::kSwitched}) {
+  StretchStep r[3];
+  for (int k = 0; k < 3; ++k) {
     StripState st = R.result.state;  // converged at 1.1
     StripSolveOptions o = solve_options();
-    o.method = method;
-    r[k++] = R.S.step(st, 1.1, 1.13, o);
-    EXPECT_TRUE(r[k - 1].solve.converged()) << r[k - 1].solve.summary();
+    o.method = k == 1 ? StripSolveOptions::Method::kSwitched : StripSolveOptions::Method::kTrustRegion;
+    if (k == 2) o.trust_stall_iterations = 1;
+    r[k] = R.S.step(st, 1.1, 1.13, o);
+    EXPECT_TRUE(r[k].solve.converged()) << k << ": " << r[k].solve.summary();
+    EXPECT_TRUE(r[k].certificate.valid) << k << ": " << r[k].certificate.failure;
+    EXPECT_EQ(r[k].solve.fallback, k == 2) << k;
   }
-  EXPECT_NEAR(r[0].energy, r[1].energy, 1e-10 * r[1].energy);
-  EXPECT_NEAR(r[0].force, r[1].force, 1e-7 * std::abs(r[1].force));
+  for (int k : {0, 2}) {
+    EXPECT_NEAR(r[k].energy, r[1].energy, 1e-10 * r[1].energy) << k;
+    EXPECT_NEAR(r[k].force, r[1].force, 1e-7 * std::abs(r[1].force)) << k;
+  }
 }
