@@ -21,7 +21,7 @@ namespace {
 
 struct ProduceOpts {
   std::string pattern, out, preset = "quick", terms = "all", material, ranges;
-  int threads = 0, sectors = 8, branch_rounds = 30;
+  int threads = 0, sectors = 8, branch_rounds = 12;
   double branch_tolerance = 0.05;
   double rest_time_limit = 300;
   bool no_warm = false;
@@ -192,7 +192,7 @@ void register_produce(CLI::App& app) {
                   "paper pattern relaxes in a few seconds)")
       ->check(finite_non_negative());
   cmd->add_option("--branch-rounds", o->branch_rounds,
-                  "Rounds of the branch pass, 0..200 (default 30; 0: off): after every node is solved, both nodes "
+                  "Rounds of the branch pass, 0..200 (default 12; 0: off): after every node is solved, both nodes "
                   "of each grid edge whose energies and gradients disagree are solved again from the other's "
                   "equilibrium, and a node keeps the lower-energy branch, which its neighbours then try in the next "
                   "round; until nothing moves. The data then lie on the lowest branch their neighbours reach "

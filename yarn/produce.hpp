@@ -41,7 +41,7 @@ struct ProduceOptions {
   // moves to that branch when its energy there is lower, and its grid neighbours then try its
   // new branch in the next round. Repeated until nothing moves, at most branch_rounds times
   // (0: off; needs warm_start, which keeps the states).
-  int branch_rounds = 30;
+  int branch_rounds = 12;
   double branch_tolerance = 0.05;
   // Called (from one thread at a time) after each finished node.
   std::function<void(int done, int total, int failed, double elapsed)> progress;
