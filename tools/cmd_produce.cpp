@@ -201,7 +201,7 @@ void register_produce(CLI::App& app) {
   cmd->add_option("--branch-tolerance", o->branch_tolerance,
                   "Trapezoid-rule mismatch along a grid edge, relative to the term's typical edge change, above "
                   "which the edge counts as two branches (default 0.05)")
-      ->check(CLI::Range(1e-6, 10.0));
+      ->check(finite_range(1e-6, 10.0, "a relative mismatch in [1e-6, 10]"));
   cmd->add_flag("--no-warm-start", o->no_warm, "Solve every node from the rest state (for comparison)");
   cmd->add_flag("--no-predictor", o->no_predictor,
                 "Warm start from the parent's solution as it is (supplement Eq. 2-3 only), without our "

@@ -69,6 +69,21 @@ struct Node {
 constexpr char kLowerBranch[] = "lower-branch";
 constexpr char kBranchRound[] = "branch-round";
 
+// A node's checkpoint record, without its state.
+CheckpointRecord record_of(const Node& n, const std::string& status) {
+  CheckpointRecord rec;
+  rec.term = n.term;
+  rec.index = n.index;
+  rec.iterations = n.iterations;
+  rec.seconds = n.seconds;
+  rec.cpu_seconds = n.cpu_seconds;
+  rec.status = status;
+  rec.psi = n.psi;
+  rec.grad = n.grad;
+  rec.min_distance = n.min_separation;
+  return rec;
+}
+
 std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   std::ostringstream f;
   f.precision(17);
@@ -210,6 +225,18 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     ck = open_checkpoint(opt.checkpoint, fp, rest_sig, &cc);
   }
   std::string checkpoint_error;
+  // Appends a record; a failure stops the checkpoint, not the work (the dataset is what
+  // matters; only resuming is lost). Called from one thread at a time.
+  auto append = [&](const CheckpointRecord& rec) {
+    if (!ck) return;
+    try {
+      append_checkpoint(ck, opt.checkpoint, rec, rest);
+    } catch (const std::exception& e) {
+      checkpoint_error = e.what();
+      std::fclose(ck);
+      ck = nullptr;
+    }
+  };
 
   // Per strain axis: the normalization of term coordinates (the box's larger half-width) and
   // the strain per unit normalized coordinate; at rest, the equilibrium's sensitivity along
@@ -390,30 +417,14 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
       if (!ok && refused) ++rep.refused;
       if (!ok) ++failed;
       if (ck) {
-        CheckpointRecord rec;
-        rec.term = n.term;
-        rec.index = n.index;
-        rec.iterations = n.iterations;
-        rec.seconds = n.seconds;
-        rec.cpu_seconds = n.cpu_seconds;
-        rec.status = n.status;
-        rec.psi = n.psi;
-        rec.grad = n.grad;
-        rec.min_distance = n.min_separation;
+        CheckpointRecord rec = record_of(n, n.status);
         // Copied into the record only while it is written (one at a time, under the lock).
         if (ok && opt.warm_start) {
           rec.has_state = true;
           rec.state = states[li];
           if (sens.count(li)) rec.sensitivity = sens[li];
         }
-        try {
-          append_checkpoint(ck, opt.checkpoint, rec, rest);
-        } catch (const std::exception& e) {
-          // The work goes on (the dataset is what matters); only resuming is lost.
-          checkpoint_error = e.what();
-          std::fclose(ck);
-          ck = nullptr;
-        }
+        append(rec);
       }
       if (opt.progress) opt.progress(done, total, failed, elapsed());
     }
@@ -578,40 +589,17 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
         n.min_separation = mv.state->certificate.min_distance;
         final_state[targets[k]] = mv.state;
         if (ck) {
-          CheckpointRecord rec;
-          rec.term = n.term;
-          rec.index = n.index;
-          rec.iterations = n.iterations;
-          rec.seconds = n.seconds;
-          rec.cpu_seconds = n.cpu_seconds;
-          rec.status = kLowerBranch;
-          rec.psi = n.psi;
-          rec.grad = n.grad;
-          rec.min_distance = n.min_separation;
+          CheckpointRecord rec = record_of(n, kLowerBranch);
           rec.has_state = true;
           rec.state = *mv.state;
-          try {
-            append_checkpoint(ck, opt.checkpoint, rec, rest);
-          } catch (const std::exception& e) {
-            checkpoint_error = e.what();
-            std::fclose(ck);
-            ck = nullptr;
-          }
+          append(rec);
         }
       }
-      if (ck) {
-        CheckpointRecord rec;
-        rec.term = -1;
-        rec.index = round;
-        rec.status = kBranchRound;
-        try {
-          append_checkpoint(ck, opt.checkpoint, rec, rest);
-        } catch (const std::exception& e) {
-          checkpoint_error = e.what();
-          std::fclose(ck);
-          ck = nullptr;
-        }
-      }
+      CheckpointRecord end;
+      end.term = -1;
+      end.index = round;
+      end.status = kBranchRound;
+      append(end);
       rep.branch_rounds = round;
       if (round_moved == 0) break;
     }
