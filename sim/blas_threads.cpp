@@ -28,7 +28,8 @@ const char* blas_description() {
   if (!config || !nthreads) return "reference BLAS (or one yarnhom cannot query)";
   char buf[64];
   std::snprintf(buf, sizeof buf, ", %d thread(s)", nthreads());
-  s = std::string("OpenBLAS ") + config() + buf;
+  const std::string c = config();  // "OpenBLAS 0.3.21 DYNAMIC_ARCH ... Haswell MAX_THREADS=64"
+  s = (c.rfind("OpenBLAS", 0) == 0 ? c : "OpenBLAS " + c) + buf;
   return s.c_str();
 }
 
