@@ -479,11 +479,7 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   }
   EnergyParts e;
   for (const Local& L : local) {
-    e.stretch += L.e.stretch;
-    e.bend += L.e.bend;
-    e.twist += L.e.twist;
-    e.contact += L.e.contact;
-    e.barrier += L.e.barrier;
+    e += L.e;
     if (grad) *grad += L.g;
     if (hess) hess->insert(hess->end(), L.trip.begin(), L.trip.end());
     if (dEds) *dEds += L.d;

@@ -66,6 +66,10 @@ struct RveState {
 struct EnergyParts {
   double stretch = 0, bend = 0, twist = 0, contact = 0, barrier = 0;
   double total() const { return stretch + bend + twist + contact + barrier; }
+  EnergyParts& operator+=(const EnergyParts& o) {
+    stretch += o.stretch, bend += o.bend, twist += o.twist, contact += o.contact, barrier += o.barrier;
+    return *this;
+  }
 };
 
 struct RveOptions {

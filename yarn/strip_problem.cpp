@@ -264,11 +264,7 @@ double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, Block
   if (grad) grad->setZero(ndof_);
   if (vertex_grad) vertex_grad->assign(n, Eigen::Vector3d::Zero());
   for (const Local& L : local) {
-    e.stretch += L.e.stretch;
-    e.bend += L.e.bend;
-    e.twist += L.e.twist;
-    e.contact += L.e.contact;
-    e.barrier += L.e.barrier;
+    e += L.e;
     if (grad) *grad += L.g;
     if (vertex_grad)
       for (int v = 0; v < n; ++v) (*vertex_grad)[v] += L.vg[v];
@@ -335,35 +331,34 @@ double StripProblem::min_distance(const StripState& st) const {
   return best;
 }
 
-void StripProblem::rebase_frames(StripState& st) const {
-  const int ne = s_.num_edges();
+namespace {
+
+// The reference frames parallel transported to the current tangents, and the joints' reference
+// twists updated to them (what rebase_frames commits everywhere and track_frames where a
+// tangent turned far).
+std::vector<EdgeFrame> transported_frames(const Strip& s, StripState& st) {
+  const int ne = s.num_edges();
   std::vector<EdgeFrame> now(ne);
   for (int e = 0; e < ne; ++e) {
-    const Eigen::Vector3d t = (st.x[s_.next(e)] - st.x[e]).normalized();
+    const Eigen::Vector3d t = (st.x[s.next(e)] - st.x[e]).normalized();
     now[e] = {t, transported_director(st.frames[e], t)};
   }
-  for (int v = 0; v < s_.size(); ++v) {
-    if (!s_.has_joint(v)) continue;
-    const int a = s_.prev(v);
+  for (int v = 0; v < s.size(); ++v) {
+    if (!s.has_joint(v)) continue;
+    const int a = s.prev(v);
     st.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.twist[v]);
   }
-  st.frames = std::move(now);
+  return now;
 }
 
+}  // namespace
+
+void StripProblem::rebase_frames(StripState& st) const { st.frames = transported_frames(s_, st); }
+
 void StripProblem::track_frames(StripState& st, double max_turn) const {
-  const int ne = s_.num_edges();
   const double c = std::cos(max_turn);
-  std::vector<EdgeFrame> now(ne);
-  for (int e = 0; e < ne; ++e) {
-    const Eigen::Vector3d t = (st.x[s_.next(e)] - st.x[e]).normalized();
-    now[e] = {t, transported_director(st.frames[e], t)};
-  }
-  for (int v = 0; v < s_.size(); ++v) {
-    if (!s_.has_joint(v)) continue;
-    const int a = s_.prev(v);
-    st.twist[v] = reference_twist(now[a].t, now[a].d1, now[v].t, now[v].d1, st.twist[v]);
-  }
-  for (int e = 0; e < ne; ++e)
+  const std::vector<EdgeFrame> now = transported_frames(s_, st);
+  for (size_t e = 0; e < now.size(); ++e)
     if (now[e].t.dot(st.frames[e].t) < c) st.frames[e] = now[e];
 }
 
