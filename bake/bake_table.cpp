@@ -1,5 +1,7 @@
 #include "bake/bake_table.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -9,7 +11,7 @@ namespace yarnhom {
 
 BakedTable bake_function(const Term& term, const std::vector<double>& lower,
                          const std::vector<double>& upper, const std::vector<int>& knots,
-                         const TermFunction& f, BakeReport* report, bool repair) {
+                         const TermFunction& f, BakeReport* report, bool repair, const double* min_curvature) {
   const int d = term.dim();
   if (lower.size() != size_t(d) || upper.size() != size_t(d) || knots.size() != size_t(d))
     throw std::invalid_argument("bake '" + term.name + "': box or knot counts of the wrong size");
@@ -46,16 +48,18 @@ BakedTable bake_function(const Term& term, const std::vector<double>& lower,
     t.f_xy = channel(jet_ch2(2, 0, 1));
   }
   BakeReport rep;
-  if (repair) rep.repair = repair_boundary(t);
+  if (repair) rep.repair = repair_boundary(t, min_curvature);
   compute_safeguard(t, &rep.departures);
   if (report) *report = rep;
   return t;
 }
 
-BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d, BakeReport* report, bool repair) {
+BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d, BakeReport* report, bool repair,
+                        const double* min_curvature) {
   const int d = net.term.dim();
   std::vector<int> knots(d, d == 1 ? res1d : res2d);
-  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, network_function(net), report, repair);
+  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, network_function(net), report, repair,
+                               min_curvature);
   t.desc = net.desc;
   t.norm = net.norm;
   t.epochs = net.epochs;
@@ -72,11 +76,62 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
   b.psi0 = psi0;
   b.psi0_known = psi0_known;
   b.areal_density = model.areal_density;
-  if (reports) reports->clear();
-  for (const ModelNetwork& net : model.networks) {
-    BakeReport r;
-    b.tables.push_back(bake_network(net, res1d, res2d, &r));
-    if (reports) reports->push_back(r);
+  std::vector<BakeReport> rep(model.networks.size());
+  for (size_t k = 0; k < model.networks.size(); ++k) b.tables.push_back(bake_network(model.networks[k], res1d, res2d, &rep[k]));
+  auto index_1d = [&](int strain) -> int {
+    for (size_t k = 0; k < b.tables.size(); ++k)
+      if (b.tables[k].dim() == 1 && b.tables[k].term.indices[0] == strain) return int(k);
+    return -1;
+  };
+  // Curvature floors: per 1D table and end, from the most negative total outward slope of every
+  // pair whose box shares that end.
+  std::vector<std::array<double, 2>> floors(b.tables.size(), {0.0, 0.0});
+  {
+    std::vector<BakedTerm> terms;
+    for (const BakedTable& t : b.tables) terms.push_back(make_baked_term(t));
+    for (size_t k = 0; k < b.tables.size(); ++k) {
+      const BakedTable& t2 = b.tables[k];
+      if (t2.dim() != 2 || t2.extrapolation == kBakedLinear) continue;
+      const int one[2] = {index_1d(t2.term.indices[0]), index_1d(t2.term.indices[1])};
+      const PairCheck pc = check_pair(terms[k], one[0] >= 0 ? &terms[one[0]] : nullptr, one[1] >= 0 ? &terms[one[1]] : nullptr);
+      for (int axis = 0; axis < 2; ++axis) {
+        if (one[axis] < 0) continue;
+        const BakedTable& t1 = b.tables[one[axis]];
+        const double W = t1.upper[0] - t1.lower[0];
+        for (int e = 0; e < 2; ++e) {
+          const double X2 = e ? t2.upper[axis] : t2.lower[axis], X1 = e ? t1.upper[0] : t1.lower[0];
+          const double S = pc.worst_slope[2 * axis + e];
+          if (std::abs(X2 - X1) > 1e-9 * W || !(S < 0)) continue;
+          const double K = -S / (kSlopeRecoveryFraction * W);
+          if (K > floors[one[axis]][e]) {
+            floors[one[axis]][e] = K;
+            rep[one[axis]].floor_pair[e] = t2.term.name;
+          }
+        }
+      }
+    }
+  }
+  for (size_t k = 0; k < b.tables.size(); ++k)
+    if (floors[k][0] > 0 || floors[k][1] > 0) {
+      const auto pairs = rep[k].floor_pair;
+      b.tables[k] = bake_network(model.networks[k], res1d, res2d, &rep[k], true, floors[k].data());
+      rep[k].floor_pair = pairs;
+    }
+  // The 1D tables are final: the 2D corners are repaired against them.
+  std::vector<BakedTerm> one_d;
+  for (const BakedTable& t : b.tables)
+    if (t.dim() == 1) one_d.push_back(make_baked_term(t));
+  auto find_1d = [&](int index) -> const BakedTerm* {
+    for (const BakedTerm& t : one_d)
+      if (t.term.indices[0] == index) return &t;
+    return nullptr;
+  };
+  if (reports) *reports = rep;
+  for (size_t k = 0; k < b.tables.size(); ++k) {
+    BakedTable& t = b.tables[k];
+    if (t.dim() != 2) continue;
+    const CornerTwistRepair r = repair_corner_twists(t, find_1d(t.term.indices[0]), find_1d(t.term.indices[1]));
+    if (reports) (*reports)[k].corners = r;
   }
   if (reports) {
     const std::vector<PairCheck> pairs = check_pairs(b);
@@ -102,7 +157,13 @@ std::string BakeReport::summary(const BakedTable& t) const {
       std::snprintf(buf, sizeof buf, "%s: inward slope raised to 0 (by %.3g)", name, r.max_slope_raise);
       add(buf);
     }
-    if (r.curvature_raised) add(std::string(name) + ": negative curvature raised to 0 in the table");
+    if (r.curvature_raised && !r.floor_raised) add(std::string(name) + ": negative curvature raised to 0 in the table");
+    if (r.floor_raised) {
+      std::snprintf(buf, sizeof buf, "%s: curvature raised to %.3g in the table (pair %s's total falls outward there: it "
+                    "now turns up within %.0f%% of the box width)", name, r.curvature_floor,
+                    floor_pair[k].empty() ? "?" : floor_pair[k].c_str(), 100 * kSlopeRecoveryFraction);
+      add(buf);
+    }
   }
   if (repair.changed() && repair.max_change > 1e-12 * repair.range) {
     std::snprintf(buf, sizeof buf, "table changed in the outer %.0f%% by at most %.2g (%.2g%% of its range)",
@@ -128,6 +189,7 @@ std::string BakeReport::summary(const BakedTable& t) const {
       add(buf);
     }
   }
+  if (corners.any()) add(corners.summary());
   const std::string pair_note = pair.summary();
   if (!pair_note.empty()) add("REPORT: " + pair_note);
   return out.empty() ? "the paper's continuation" : out;

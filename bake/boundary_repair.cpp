@@ -43,7 +43,7 @@ void end_jet_1d(const std::vector<double>& f, const std::vector<double>& fx, dou
   }
 }
 
-void repair_1d(BakedTable& t, BoundaryRepair& rep) {
+void repair_1d(BakedTable& t, BoundaryRepair& rep, const double* floor) {
   const double lo = t.lower[0], hi = t.upper[0];
   const int n = t.knots[0];
   const double h = (hi - lo) / (n - 1), w = layer_width(lo, hi, n);
@@ -52,9 +52,10 @@ void repair_1d(BakedTable& t, BoundaryRepair& rep) {
     const double sigma = upper ? 1.0 : -1.0;
     SideRepair side;
     side.knots = 1;
+    side.curvature_floor = floor ? std::max(floor[e], 0.0) : 0.0;
     double s, c;
     end_jet_1d(t.f, t.f_x, h, upper, s, c);
-    if (s >= 0 && c >= 0) {
+    if (s >= 0 && c >= side.curvature_floor) {
       rep.sides.push_back(side);
       continue;
     }
@@ -71,7 +72,7 @@ void repair_1d(BakedTable& t, BoundaryRepair& rep) {
     double s1, c1, s2, c2;
     end_jet_1d(b1, db1, h, upper, s1, c1);
     end_jet_1d(b2, db2, h, upper, s2, c2);
-    const double s_target = std::max(s, 0.0), c_target = std::max(c, 0.0);
+    const double s_target = std::max(s, 0.0), c_target = std::max(c, side.curvature_floor);
     const double alpha = (s_target - s) / s1;
     const double beta = (c_target - c - alpha * c1) / c2;
     for (int k = 0; k < n; ++k) {
@@ -85,6 +86,7 @@ void repair_1d(BakedTable& t, BoundaryRepair& rep) {
     for (double g : t.f_x) gmax = std::max(gmax, std::abs(g));
     side.repaired = s < -1e-9 * gmax;
     side.curvature_raised = c < -1e-9 * gmax / h;
+    side.floor_raised = side.curvature_floor > 0 && c < side.curvature_floor;
     side.max_slope_raise = alpha;
     rep.sides.push_back(side);
   }
@@ -92,14 +94,14 @@ void repair_1d(BakedTable& t, BoundaryRepair& rep) {
 
 }  // namespace
 
-BoundaryRepair repair_boundary(BakedTable& t) {
+BoundaryRepair repair_boundary(BakedTable& t, const double* min_curvature) {
   BoundaryRepair rep;
   rep.layer_fraction = kLayerFraction;
   if (t.f.empty()) return rep;
   const auto [mn, mx] = std::minmax_element(t.f.begin(), t.f.end());
   rep.range = *mx - *mn;
   // A 2D table is a residual and is never changed (see the header).
-  if (t.dim() == 1) repair_1d(t, rep);
+  if (t.dim() == 1) repair_1d(t, rep, min_curvature);
   return rep;
 }
 

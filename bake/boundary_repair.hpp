@@ -32,6 +32,8 @@ struct SideRepair {
   int knots = 0, repaired = 0;     // 1 for an end, and 1 when its outward slope was raised
   bool curvature_raised = false;   // the end's outward curvature was raised to 0
   double max_slope_raise = 0;      // the raise of the outward slope (physical units)
+  double curvature_floor = 0;      // the floor asked for (0: none)
+  bool floor_raised = false;       // the end's curvature was below that floor and now equals it
 };
 
 struct BoundaryRepair {
@@ -43,7 +45,10 @@ struct BoundaryRepair {
 };
 
 // Repairs the knot data of a 1D table in place (the safeguard coefficients are NOT
-// recomputed: call compute_safeguard after). A 2D table is left as it is.
-BoundaryRepair repair_boundary(BakedTable& table);
+// recomputed: call compute_safeguard after). A 2D table is left as it is. min_curvature
+// (lower end, upper end; null: 0) raises an end's outward curvature to at least that value the
+// same way (bake_model's curvature floor: where a pair's TOTAL falls outward at the box, the 1D
+// curvature must turn it up within a bounded distance, bake/bake_table.hpp).
+BoundaryRepair repair_boundary(BakedTable& table, const double* min_curvature = nullptr);
 
 }  // namespace yarnhom

@@ -80,6 +80,10 @@ PairCheck check_pair(const BakedTerm& t, const BakedTerm* ti, const BakedTerm* t
         ++p.falling[e];
         p.worst_slope[e] = std::min(p.worst_slope[e], v);
       }
+  // Rounding of a corner's twist: 1e-12 of the table's largest stored mixed derivative.
+  double twist_scale = 0;
+  for (double v : t.coef) twist_scale = std::max(twist_scale, std::abs(v));
+  twist_scale *= 1e-12 * t.inv_h[0] * t.inv_h[1];
   for (int c = 0; c < 4; ++c) {
     const double sx = c & 1 ? 1.0 : -1.0, sy = c & 2 ? 1.0 : -1.0;
     const double s[2] = {c & 1 ? t.hi[0] : t.lo[0], c & 2 ? t.hi[1] : t.lo[1]};
@@ -90,7 +94,7 @@ PairCheck check_pair(const BakedTerm& t, const BakedTerm* ti, const BakedTerm* t
     one_d(tj, s[1], sy, d, p.k_second[c]);
     p.twist[c] = sx * sy * jet[jet_ch2(2, 0, 1)];
     const double T = p.twist[c];
-    p.corner_bends[c] = T < 0 && T * T * (1 - 1e-9) > std::max(p.k_first[c], 0.0) * std::max(p.k_second[c], 0.0);
+    p.corner_bends[c] = T < -twist_scale && T * T * (1 - 1e-9) > std::max(p.k_first[c], 0.0) * std::max(p.k_second[c], 0.0);
   }
   return p;
 }

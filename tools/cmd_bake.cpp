@@ -49,10 +49,14 @@ void register_bake(CLI::App& app) {
       "or curves down the table's outer 5% is repaired so that it rises; a 2D term (a residual, "
       "which may fall outward) is the network's everywhere and continues to first order across "
       "its edges and corners (C1), so that outside the box the total energy's outward curvature "
-      "is the 1D terms'. The table says per term where this departs from the paper's quadratic, "
-      "and per term pair where the TOTAL energy falls outward at the box or bends down in a "
-      "corner (data the safeguard cannot fix without changing them). The baked file is what a "
-      "cloth simulator loads (docs/bake.md).");
+      "is the 1D terms'. Baked as one material: where a pair's TOTAL energy falls outward at "
+      "the box, the 1D end's curvature is raised (C2, in the table's outer 5%) so that it turns "
+      "up within half the box width; where a corner's twist would bend the total down without "
+      "bound, that corner knot's f_xy is raised (one cell changes). So outside the box the "
+      "total is bounded below and rises far out. The table says per term where this departs "
+      "from the paper's quadratic and what it changed, and per term pair where the total still "
+      "falls outward at the box (data). The baked file is what a cloth simulator loads "
+      "(docs/bake.md).");
   cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all")->required()->check(existing_regular_file());
   cmd->add_option("-o,--output", o->out, "Baked file to write (HDF5, written atomically)")->required();
   cmd->add_option("--res1d", o->res1d, "Knots of a 1D table (the paper: 200)")->check(CLI::Range(2, 1000000))->capture_default_str();

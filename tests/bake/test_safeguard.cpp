@@ -13,6 +13,7 @@
 #include "bake/bake_table.hpp"
 #include "bake/bake_accuracy.hpp"
 #include "bake/baked_eval.hpp"
+#include "bake/corner_twist.hpp"
 #include "bake/material.hpp"
 #include "bake/pair_check.hpp"
 #include "cpu/network_eval.hpp"
@@ -310,13 +311,18 @@ TEST(Safeguard, TwoDimensionalTablesAreTheNetworkUpToTheBoundary) {
 // per pair (one in five from a corner) to 3x the box: the total's outward slope never
 // decreases, and never turns negative where it starts non-negative. Corners the pair check
 // reports (T^2 > K_I K_J with a negative twist) are skipped, and the report is checked to be
-// true: along its worst direction the slope does fall.
+// true: along its worst direction the slope does fall. Then the three networks are baked as one
+// material (bake_model: the 1D curvature floors and the corner twist repair, docs/bake.md): no
+// corner is reported any more, the same 1,000 rays are walked with none skipped, where the total
+// falls outward at an edge its slope is >= 0 at kSlopeRecoveryFraction of the box width out, and
+// far out (1000x the box) every corner's worst diagonal rises.
 TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
   unsigned seed = 400;
-  int start_falling = 0, corner_rays = 0, skipped = 0, reported_corners = 0, reported_edges = 0;
+  int start_falling = 0, corner_rays = 0, skipped = 0, reported_corners = 0, reported_edges = 0, repaired = 0, floors = 0;
   for (const PairCase& c : kPairCases)
     for (int k = 0; k < 3; ++k, seed += 3) {
-      const BakedTerm t2 = make_baked_term(bake_network(test::random_model_network(c.pair, c.lo, c.hi, seed), 200, 40));
+      BakedTable table2 = bake_network(test::random_model_network(c.pair, c.lo, c.hi, seed), 200, 40);
+      const BakedTerm t2 = make_baked_term(table2);
       const BakedTerm ti = make_baked_term(bake_network(test::random_model_network(c.first, {c.lo[0]}, {c.hi[0]}, seed + 1), 200, 40));
       const BakedTerm tj = make_baked_term(bake_network(test::random_model_network(c.second, {c.lo[1]}, {c.hi[1]}, seed + 2), 200, 40));
       const PairCheck pc = check_pair(t2, &ti, &tj);
@@ -350,13 +356,81 @@ TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
         test::walk_ray(E, p, {v[0], v[1]}, H, 0.0, one);
         EXPECT_EQ(one.slope_falls, 1) << what << " corner " << q;
       }
+      // The three networks baked as one material (bake_model: curvature floors, corner twists).
+      Model model;
+      model.networks = {test::random_model_network(c.pair, c.lo, c.hi, seed),
+                        test::random_model_network(c.first, {c.lo[0]}, {c.hi[0]}, seed + 1),
+                        test::random_model_network(c.second, {c.lo[1]}, {c.hi[1]}, seed + 2)};
+      std::vector<BakeReport> reps;
+      const BakedModel bm = bake_model(model, "", 200, 40, 0.0, false, &reps);
+      const BakedTerm r2 = make_baked_term(bm.tables[0]), ri = make_baked_term(bm.tables[1]),
+                      rj = make_baked_term(bm.tables[2]);
+      const PairCheck rc = check_pair(r2, &ri, &rj);
+      for (int q = 0; q < 4; ++q) {
+        EXPECT_FALSE(rc.corner_bends[q]) << what << " corner " << q;
+        repaired += reps[0].corners.repaired[q];
+      }
+      for (int e = 0; e < 2; ++e) floors += reps[1].repair.sides[e].floor_raised + reps[2].repair.sides[e].floor_raised;
+      // A raised 1D end is still C2 with its quadratic, whose curvature is the floor.
+      for (const BakedTerm* t1 : {&ri, &rj}) {
+        const BakeReport& r1 = reps[t1 == &ri ? 1 : 2];
+        for (int e = 0; e < 2; ++e) {
+          if (!r1.repair.sides[e].floor_raised) continue;
+          const double X = e ? t1->hi[0] : t1->lo[0], d = 1e-7 * (t1->hi[0] - t1->lo[0]) * (e ? 1 : -1);
+          // Inside, the end cell's curvature is linear: extrapolated to X from two points.
+          const double in = 2 * eval_baked_1d(*t1, X - d).d2f - eval_baked_1d(*t1, X - 2 * d).d2f;
+          const double out = eval_baked_1d(*t1, X + d).d2f;
+          EXPECT_NEAR(out, r1.repair.sides[e].curvature_floor, 1e-6 * r1.repair.sides[e].curvature_floor) << what;
+          EXPECT_NEAR(in, out, 1e-6 * out) << what;
+        }
+      }
+      const test::RayTally rr = test::pair_plane_rays(r2, &ri, &rj, rc, 1000, seed);
+      EXPECT_EQ(rr.rays, 1000) << what;
+      EXPECT_EQ(rr.skipped, 0) << what;
+      EXPECT_EQ(rr.slope_falls, 0) << what;
+      EXPECT_EQ(rr.turns_back, 0) << what;
+      auto total = [&](double x, double y, double vx, double vy, double& S) {
+        const BakedJet2 j = eval_baked_2d(r2, {x, y});
+        const BakedJet1 a = eval_baked_1d(ri, x), b = eval_baked_1d(rj, y);
+        S = (j.g[0] + a.df) * vx + (j.g[1] + b.df) * vy;
+        return j.f + a.f + b.f;
+      };
+      // Where the total falls outward at an edge, it has turned up within the recovery distance.
+      for (int e = 0; e < 4; ++e) {
+        const int axis = e / 2, along = 1 - axis;
+        const double sg = e % 2 ? 1 : -1, W = (axis ? rj.hi[0] - rj.lo[0] : ri.hi[0] - ri.lo[0]);
+        for (int m = 0; m <= 40; ++m) {
+          double p[2], v[2] = {0, 0}, S;
+          p[axis] = (sg > 0 ? r2.hi[axis] : r2.lo[axis]) + sg * kSlopeRecoveryFraction * W;
+          p[along] = r2.lo[along] + (r2.hi[along] - r2.lo[along]) * m / 40;
+          v[axis] = sg;
+          total(p[0], p[1], v[0], v[1], S);
+          EXPECT_GE(S, -1e-9 * rc.slope_scale) << what << " edge " << e << " point " << m;
+        }
+      }
+      // Far out (1000x the box) every corner's worst diagonal rises above the corner's energy.
+      for (int q = 0; q < 4; ++q) {
+        double v[2];
+        worst_corner_direction(rc, q, v);
+        const double H = std::max(r2.hi[0] - r2.lo[0], r2.hi[1] - r2.lo[1]);
+        const double x0 = q & 1 ? r2.hi[0] : r2.lo[0], y0 = q & 2 ? r2.hi[1] : r2.lo[1];
+        double S0, S;
+        const double F0 = total(x0, y0, v[0], v[1], S0);
+        const double F = total(x0 + 1000 * H * v[0], y0 + 1000 * H * v[1], v[0], v[1], S);
+        EXPECT_GT(S, 0) << what << " corner " << q;
+        EXPECT_GT(F, F0) << what << " corner " << q;
+      }
     }
   // The test means something only if the data fell outward somewhere and corners were walked.
   EXPECT_GT(start_falling, 0);
   EXPECT_GT(reported_edges, 0);
   EXPECT_GT(corner_rays - skipped, 500);
-  std::printf("pair planes: %d rays started falling (reported), %d corner rays walked, %d skipped at %d reported corners\n",
-              start_falling, corner_rays - skipped, skipped, reported_corners);
+  EXPECT_GT(reported_corners, 0);
+  EXPECT_GT(repaired, 0);
+  EXPECT_GT(floors, 0);
+  std::printf("pair planes: %d rays started falling (reported), %d corner rays walked, %d skipped at %d reported corners; "
+              "as one material: %d corners repaired, %d 1D end curvatures raised\n", start_falling, corner_rays - skipped,
+              skipped, reported_corners, repaired, floors);
 }
 
 // (b) The full strain space (s_x, s_a, s_y, II_x, II_y; II_a = 0, where bending is B_3[g] =
@@ -367,7 +441,7 @@ TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
 // reported). The total's outward slope never decreases, and never turns negative.
 TEST(Safeguard, TotalMaterialRisesOutwardInTheStrainSpace) {
   const double lo6[6] = {-0.2, -0.7, -0.2, -200, -50, -230}, hi6[6] = {1.0, 0.7, 1.0, 170, 50, 230};
-  BakedModel m;
+  Model model;
   unsigned seed = 500;
   for (const Term& term : all_terms()) {
     std::vector<double> lo, hi;
@@ -375,8 +449,10 @@ TEST(Safeguard, TotalMaterialRisesOutwardInTheStrainSpace) {
       lo.push_back(lo6[i]);
       hi.push_back(hi6[i]);
     }
-    m.tables.push_back(bake_network(test::random_model_network(term.name, lo, hi, seed++), 100, 30));
+    model.networks.push_back(test::random_model_network(term.name, lo, hi, seed++));
   }
+  // bake_model: the 1D end repair and the corner twist repair, as `yarnhom bake` does.
+  const BakedModel m = bake_model(model, "", 100, 30, 0.0, false);
   const BakedMaterial mat = make_baked_material(m);
   const std::vector<PairCheck> pcs = check_pairs(m);
   auto pair_of = [&](int i, int j, bool& swapped) -> const PairCheck* {
@@ -446,7 +522,8 @@ TEST(Safeguard, TotalMaterialRisesOutwardInTheStrainSpace) {
   }
   EXPECT_EQ(tally.slope_falls, 0);
   EXPECT_EQ(tally.turns_back, 0);
-  EXPECT_GT(tally.rays, 800);
+  EXPECT_EQ(skipped, 0);  // the corner twist repair leaves no corner that bends the total down
+  EXPECT_EQ(tally.rays, 1000);
   std::printf("strain space: %d rays (%d from two bounds, %d skipped at reported corners), %d started falling\n",
               tally.rays, two - skipped, skipped, tally.start_falling);
 }
