@@ -51,12 +51,18 @@ std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::Vect
     const Strain6& e = s[t];
     const double r = std::hypot(0.5 * (e[3] - e[5]), e[4]), m = 0.5 * std::abs(e[3] + e[5]);
     if (std::abs(e[0]) > 5 || std::abs(e[2]) > 5 || std::abs(e[1]) > 0.999 || m + r > 1e4 || !e.allFinite()) {
-      char buf[400];
+      // Which of the two usual causes: an energy below rest there means the material falls
+      // outside its box (the safeguard should prevent it); above rest, the step overshot.
+      const double psi = P.material(e).psi, rest = P.material(Strain6::Zero()).psi;
+      char buf[600];
       std::snprintf(buf, sizeof buf,
                     "triangle %zu reached s = (%.4g, %.4g, %.4g, %.4g, %.4g, %.4g), beyond any physical strain, where the "
-                    "material's energy is %.6g J/m^2: the material probably decreases outside its box in that direction "
-                    "(check the terms with `yarnhom eval`)",
-                    t, e[0], e[1], e[2], e[3], e[4], e[5], P.material(e).psi);
+                    "material's energy is %.6g J/m^2 (%.6g at rest): %s",
+                    t, e[0], e[1], e[2], e[3], e[4], e[5], psi, rest,
+                    !(psi >= rest) ? "the material decreases outside its box in that direction (check the terms with "
+                                     "`yarnhom eval`; bake it again with this yarnhom's bake)"
+                                   : "the energy rises there, so the time step overshot (the linearized integrator makes "
+                                     "one linear solve per step: try a smaller --dt, or --integrator newton)");
       return std::string(buf);
     }
   }
