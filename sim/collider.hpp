@@ -12,6 +12,7 @@ struct Collider {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // plane: a point on it; sphere: its centre
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); // plane: unit normal towards the free side
   double radius = 0;                                 // sphere
+  double friction = 0;                               // Coulomb coefficient mu with the cloth (sim/friction.hpp); 0: frictionless
 };
 
 // Distance to the surface, positive on the free side; gradient and Hessian in x if asked.

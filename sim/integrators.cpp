@@ -15,6 +15,46 @@ double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::d
 std::vector<double> step_branches(const Mesh& m, const Eigen::VectorXd& x, const std::vector<double>* hinges) {
   return hinge_angles(m, x, hinges && !hinges->empty() ? hinges : nullptr);
 }
+
+// A re-solve's work added to the step's: counts and times add up, the outcome is the last one's.
+void accumulate(NewtonStats& into, const NewtonStats& more) {
+  into.iterations += more.iterations;
+  into.shifted += more.shifted;
+  into.backtracks += more.backtracks;
+  into.extensions += more.extensions;
+  into.t_assemble += more.t_assemble;
+  into.t_solve += more.t_solve;
+  into.t_line_search += more.t_line_search;
+  into.shell.strain += more.shell.strain;
+  into.shell.material += more.shell.material;
+  into.shell.chain += more.shell.chain;
+  into.shell.project += more.shell.project;
+  into.shell.scatter += more.shell.scatter;
+  into.shell.elements += more.shell.elements;
+  into.shell.projected += more.shell.projected;
+  into.converged = more.converged;
+  into.energy = more.energy;
+  into.step_norm = more.step_norm;
+}
+
+// Minimizes with the friction lagged at x_start, then (IPC's lag update) P.friction_updates
+// times more with the normal forces and tangent bases taken at the solution, u still measured
+// from x_start.
+NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                                   StepState& S, const Eigen::VectorXd& x_start, double eps, Eigen::VectorXd& x,
+                                   const NewtonSettings& opt, bool profile) {
+  const bool friction = has_friction(P);
+  if (friction) {
+    S.friction = friction_contacts(P, D.free_index, x_start, x_start);
+    S.friction_eps = eps;
+  }
+  NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile);
+  for (int k = 0; friction && k < P.friction_updates && x.allFinite(); ++k) {
+    S.friction = friction_contacts(P, D.free_index, x, x_start);
+    accumulate(st, newton_minimize(P, D, pat, solver, S, x, opt, profile));
+  }
+  return st;
+}
 }  // namespace
 
 void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x) {
@@ -42,7 +82,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   xn += max_feasible_step(P, x, dx) * dx;
   apply_targets(D, target, xn);
   StepStats out;
-  out.newton = newton_minimize(P, D, pat, solver, S, xn, opt, profile);
+  out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
   if (hinges) *hinges = hinge_angles(P.mesh, xn, &S.theta_ref);
   v = (xn - x) / h;
   x = xn;
@@ -128,13 +168,15 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
 
 StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                        Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt, bool profile,
-                       std::vector<double>* hinges) {
+                       std::vector<double>* hinges, const Eigen::VectorXd* friction_start) {
   StepState S;
   S.dynamic = false;
+  const Eigen::VectorXd x_start = friction_start ? *friction_start : x;
   apply_targets(D, target, x);
   S.theta_ref = step_branches(P.mesh, x, hinges);
   StepStats out;
-  out.newton = newton_minimize(P, D, pat, solver, S, x, opt, profile);
+  // No time step: eps is a displacement per load step, eps_v times one second.
+  out.newton = minimize_with_friction(P, D, pat, solver, S, x_start, P.friction_eps_v * 1.0, x, opt, profile);
   if (hinges) *hinges = hinge_angles(P.mesh, x, &S.theta_ref);
   out.finite = x.allFinite();
   return out;

@@ -14,6 +14,13 @@
 //   normal velocity towards the collider removed (our simplification of ARCSim's impact
 //   zones).
 // static_solve: equilibrium of E_shell + gravity + colliders by the same Newton method.
+//
+// Friction (sim/friction.hpp), where a collider has mu > 0: implicit_euler_step and static_solve
+// add the lagged friction potential, with the normal forces and tangent bases taken at the
+// step's start (statics: friction_start, the previous load step's equilibrium, else x as given)
+// and P.friction_updates re-solves with them taken at the solution (IPC's lag update).
+// linearized_step applies no friction: it has no barrier, hence no normal force to lag (its
+// collider response is a projection).
 #include "sim/newton.hpp"
 
 #include <vector>
@@ -40,7 +47,8 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
 
 StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                        Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt,
-                       bool profile = false, std::vector<double>* hinges = nullptr);
+                       bool profile = false, std::vector<double>* hinges = nullptr,
+                       const Eigen::VectorXd* friction_start = nullptr);
 
 // Sets the prescribed vertices of x to target.
 void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::VectorXd& x);

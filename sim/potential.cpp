@@ -98,6 +98,7 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x) {
   double E = shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
   for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
+  for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
 }
 
@@ -112,6 +113,14 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
     const int f = D.free_index[v];
     E += vertex_terms(P, S, x, v, &g, values && f >= 0 ? &H : nullptr);
     grad.segment<3>(3 * v) += g;
+    if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
+  }
+  for (const FrictionContact& c : S.friction) {
+    Eigen::Vector3d g;
+    Eigen::Matrix3d H;
+    const int f = D.free_index[c.vertex];
+    E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps, &g, values && f >= 0 ? &H : nullptr);
+    grad.segment<3>(3 * c.vertex) += g;
     if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
   }
   return E + rayleigh_beta_term(P, D, S, x, &grad, values);

@@ -8,14 +8,17 @@
 //          + kappa sum_v sum_c A_v b(d_c(x_v))            colliders (sim/barrier.hpp)
 //          + 1/(2h) (x - x_n)^T (alpha M + beta K_n) (x - x_n)     Rayleigh damping
 //          + c_air/(2h) sum_v A_v ((x_v - x_v^n) . n_v)^2        air drag on the normal velocity
+//          + sum_k mu lambda_k f0(|T_k^T (x_k - x_k^n)|)            lagged friction (sim/friction.hpp)
 //
 // whose stationarity is implicit Euler with those forces: M (x - x~)/h^2 = f(x), damping
 // forces -(alpha M + beta K_n) v and -c_air A (v.n) n with v = (x - x_n)/h (K_n and n_v frozen at
-// x_n, so the damping terms are exact quadratics). In a static solve only the elastic, gravity
-// and collider terms remain: equilibrium is the minimum of the potential energy.
+// x_n, so the damping terms are exact quadratics). In a static solve only the elastic, gravity,
+// collider and friction terms remain: equilibrium is the minimum of the potential energy (plus
+// the friction of the displacement from the previous load step).
 #include <Eigen/Sparse>
 
 #include "sim/dof_map.hpp"
+#include "sim/friction.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "sim/problem.hpp"
 #include "sim/shell_energy.hpp"
@@ -30,6 +33,8 @@ struct StepState {
   Eigen::MatrixX3d normals; // [n] unit vertex normals at x_n (air drag)
   Eigen::SparseMatrix<double> K_prev;  // lower triangle over the free unknowns (the pattern's),
                                        // projected elastic Hessian at x_n (beta damping)
+  std::vector<FrictionContact> friction;  // lagged contacts (sim/friction.hpp); empty: frictionless
+  double friction_eps = 0;                // m, eps_v h (statics: eps_v x 1 s)
   std::vector<double> theta_ref;  // 3 per triangle: the dihedral angles' branches (sim/hinge_angles.hpp); empty: (-pi, pi]
 };
 

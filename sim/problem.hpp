@@ -25,6 +25,9 @@ struct Problem {
   double rayleigh_alpha = 0;    // mass-proportional damping, 1/s
   double rayleigh_beta = 0;     // stiffness-proportional damping, s
   double air_drag = 0;          // drag on the normal velocity, kg/(m^2 s) (force -c A (v.n) n)
+  double friction_eps_v = 1e-3; // m/s, friction's sticking velocity threshold (sim/friction.hpp); the scenes
+                                // set 1e-3 l per second, l the sheet's rest diagonal
+  int friction_updates = 0;     // re-solves of a step with lambda and T taken at its solution (IPC's lag update)
   HessianModel hessian = HessianModel::Split;  // PSD model of the element Hessians (sim/hessian_model.hpp)
 };
 

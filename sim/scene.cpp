@@ -57,6 +57,8 @@ Scene drape(int n) {
   floor.kind = Collider::Kind::Plane;
   floor.center = Eigen::Vector3d(0, 0, -R);
   floor.normal = Eigen::Vector3d::UnitZ();
+  // Woven and knitted cloth on smooth solids: kinetic friction coefficients of about 0.2-0.4.
+  sphere.friction = floor.friction = 0.3;
   s.colliders = {sphere, floor};
   s.frames = 90;
   s.render_frames = {0, 15, 30, 90};

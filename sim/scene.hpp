@@ -39,6 +39,8 @@ struct Scene {
   double dhat = 1e-3;                     // m
   double kappa = 0;                       // Pa; 0 = 100 x areal density x |g|
   double rayleigh_alpha = 0, rayleigh_beta = 0, air_drag = 0;
+  double friction_eps_v = 0;              // m/s, friction's sticking velocity; 0 = 1e-3 l per second
+  int friction_updates = 0;               // IPC's lag updates per step (sim/friction.hpp)
   Integrator integrator = Integrator::Newton;
   double dt = 1.0 / 30;                   // s per frame
   int substeps = 1;                       // steps per frame
@@ -50,7 +52,7 @@ struct Scene {
 
 // Built-in scenes. resolution: quads along the longer side (0 = the scene's default).
 // drape: a 0.5 m square sheet, 5 cm above a sphere of radius 0.15 m (and the floor below it),
-//   falls and drapes; 90 frames of 1/30 s.
+//   falls and drapes; 90 frames of 1/30 s; friction mu = 0.3 with both (cloth on a smooth solid).
 // hang: a 0.5 m square sheet held horizontally by two adjacent corners, released; it swings
 //   down and hangs; 90 frames of 1/30 s.
 // stretch: a 5 cm x 10 cm strip, long axis along the course (x) or the wale (y), both short

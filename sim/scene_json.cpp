@@ -32,6 +32,11 @@ struct Reader {
     if (!std::isfinite(x)) fail(key, "must be finite");
     return x;
   }
+  double nonnegative(const json& j, const std::string& key) const {
+    const double x = number(j, key);
+    if (!(x >= 0)) fail(key, "must be >= 0");
+    return x;
+  }
   double positive(const json& j, const std::string& key) const {
     const double x = number(j, key);
     if (!(x > 0)) fail(key, "must be positive");
@@ -94,7 +99,7 @@ Scene read_scene_json(const std::string& file) {
   }
   const Reader r{file};
   r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
-                 "barrier", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
+                 "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
   Scene s;
   s.name = std::filesystem::path(file).stem().string();
   if (j.contains("name")) {
@@ -169,8 +174,10 @@ Scene read_scene_json(const std::string& file) {
     for (size_t k = 0; k < j["colliders"].size(); ++k) {
       const std::string key = "colliders[" + std::to_string(k) + "]";
       const json& jc = j["colliders"][k];
-      r.only(jc, key, {"sphere", "plane"});
+      r.only(jc, key, {"sphere", "plane", "friction"});
       Collider c;
+      c.friction = -1;  // none of its own: the global "friction" (below), else 0
+      if (jc.contains("friction")) c.friction = r.nonnegative(jc["friction"], key + ".friction");
       if (jc.contains("sphere")) {
         const json& sp = jc["sphere"];
         r.only(sp, key + ".sphere", {"center", "radius"});
@@ -198,6 +205,23 @@ Scene read_scene_json(const std::string& file) {
     if (j["barrier"].contains("dhat")) s.dhat = r.positive(j["barrier"]["dhat"], "barrier.dhat");
     if (j["barrier"].contains("kappa")) s.kappa = r.positive(j["barrier"]["kappa"], "barrier.kappa");
   }
+  // Friction: one coefficient for every collider without its own, as a number or with the
+  // sticking velocity and the lag updates (sim/friction.hpp).
+  double mu = 0;
+  if (j.contains("friction")) {
+    const json& f = j["friction"];
+    if (f.is_number()) {
+      mu = r.nonnegative(f, "friction");
+    } else {
+      if (!f.is_object()) r.fail("friction", "must be a coefficient (number >= 0) or {\"mu\", \"eps_v\", \"updates\"}");
+      r.only(f, "friction", {"mu", "eps_v", "updates"});
+      if (f.contains("mu")) mu = r.nonnegative(f["mu"], "friction.mu");
+      if (f.contains("eps_v")) s.friction_eps_v = r.positive(f["eps_v"], "friction.eps_v");
+      if (f.contains("updates")) s.friction_updates = r.integer(f["updates"], "friction.updates", 0);
+    }
+  }
+  for (Collider& c : s.colliders)
+    if (c.friction < 0) c.friction = mu;
   if (j.contains("damping")) {
     const json& d = j["damping"];
     r.only(d, "damping", {"rayleigh_alpha", "rayleigh_beta", "air"});

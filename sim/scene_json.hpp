@@ -7,8 +7,9 @@
 //     "areal_density": 0.3, "gravity": [0, 0, -9.81],
 //     "pins": [SELECTION, ...],
 //     "handles": [{"select": SELECTION, "path": [[t, dx, dy, dz], ...]}, ...],
-//     "colliders": [{"sphere": {"center": [..], "radius": r}}, {"plane": {"point": [..], "normal": [..]}}],
+//     "colliders": [{"sphere": {"center": [..], "radius": r}, "friction": 0.3}, {"plane": {"point": [..], "normal": [..]}}],
 //     "barrier": {"dhat": 1e-3, "kappa": 100},
+//     "friction": 0.3 | {"mu": 0.3, "eps_v": 7e-4, "updates": 0},      (colliders without their own)
 //     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},
 //     "integrator": "newton" | "linearized" | "static",
 //     "dt": 0.0333, "substeps": 1, "frames": 90,
@@ -18,6 +19,9 @@
 //   }
 // SELECTION = {"vertices": [i, ...]} (0-based) or {"rest_box": [u0, v0, u1, v1]} (every vertex
 // whose rest position lies in the box, metres). Paths are relative to the scene file.
+// Friction (sim/friction.hpp): a collider's own "friction" (mu >= 0), else the global one, else
+// 0 (frictionless); eps_v (m/s, default 1e-3 sheet diagonals per second) and updates (IPC's
+// lag updates per step, default 0) only in the global object form.
 // Unknown keys and wrong types are refused, naming the file and the key.
 #include <string>
 

@@ -114,6 +114,12 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   P.rayleigh_beta = scene.rayleigh_beta;
   P.air_drag = scene.air_drag;
   P.hessian = set.hessian;
+  for (const Collider& c : P.colliders)
+    if (!(c.friction >= 0) || !std::isfinite(c.friction)) throw std::invalid_argument("a collider's friction must be >= 0");
+  // Friction's sticking velocity: IPC's default, 1e-3 sheet sizes per second.
+  const double diag = (P.mesh.rest.colwise().maxCoeff() - P.mesh.rest.colwise().minCoeff()).norm();
+  P.friction_eps_v = scene.friction_eps_v > 0 ? scene.friction_eps_v : 1e-3 * diag;
+  P.friction_updates = scene.friction_updates;
   const std::vector<int> prescribed = prescribed_vertices(scene.handles);
   const DofMap D = make_dof_map(P.mesh.num_vertices(), prescribed);
   const HessianPattern pat = make_hessian_pattern(P.mesh, D);
@@ -127,6 +133,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         throw std::invalid_argument("vertex " + std::to_string(v) + " starts inside collider " + std::to_string(c));
   SimResult R;
   R.kappa = P.kappa;
+  R.friction_eps_v = P.friction_eps_v;
   R.x = x0;
   R.v = Eigen::VectorXd::Zero(x0.size());
   const std::string& dir = set.out_dir;
@@ -163,7 +170,6 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   NewtonSettings nopt = scene.newton;
   if (!(nopt.tol_step > 0)) {
     // IPC's: a velocity error of 1e-2 rest diagonals per second; statics: 1e-8 diagonals.
-    const double diag = (P.mesh.rest.colwise().maxCoeff() - P.mesh.rest.colwise().minCoeff()).norm();
     nopt.tol_step = dynamic ? 1e-2 * diag * h : 1e-8 * diag;
   }
   R.tol_step = nopt.tol_step;
@@ -187,8 +193,9 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       } else {
         rec.time = double(frame) / scene.frames;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
+        const Eigen::VectorXd previous = x;  // friction's displacement is measured from the last equilibrium
         affine_predictor(prescribed, x, target, x);
-        st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges);
+        st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges, &previous);
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
       rec.iterations = st.newton.iterations;

@@ -59,6 +59,7 @@ struct SimResult {
   std::vector<StretchRow> stretch;
   Eigen::VectorXd x, v;          // final state, 3n
   double kappa = 0;              // the barrier stiffness used
+  double friction_eps_v = 0;     // friction's sticking velocity used, m/s
   double tol_step = 0;           // the Newton tolerance used, m
 };
 

@@ -38,12 +38,28 @@ void write_scene_info(const std::string& dir, const sim::Scene& s) {
   std::ofstream((fs::path(dir) / "scene_info.json").string()) << j.dump(1) << "\n";
 }
 
+// "mu 0.3" when every collider has the same coefficient, else the list; "none" without colliders.
+std::string friction_description(const sim::Scene& s) {
+  if (s.colliders.empty()) return "none (no collider)";
+  std::string out;
+  bool same = true;
+  for (const sim::Collider& c : s.colliders) same = same && c.friction == s.colliders[0].friction;
+  char buf[64];
+  for (size_t k = 0; k < (same ? 1 : s.colliders.size()); ++k) {
+    std::snprintf(buf, sizeof buf, "%s%g", k ? ", " : "mu ", s.colliders[k].friction);
+    out += buf;
+  }
+  if (s.integrator == sim::Integrator::Linearized && out != "mu 0") out += " (not applied by the linearized integrator)";
+  return out;
+}
+
 }  // namespace
 
 void register_sim(CLI::App& app) {
   struct Opts {
     std::string scene, out, material, integrator, direction = "course", solver = "auto", render, hessian = "split";
-    double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1;
+    double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
+    int friction_updates = -1;
     int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0, blas_threads = 0;
     bool no_frames = false, profile = false, quiet = false;
   };
@@ -85,6 +101,21 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--rayleigh-alpha", o->alpha, "Mass-proportional damping, 1/s (default 0)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--rayleigh-beta", o->beta, "Stiffness-proportional damping, s (default 0)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--air", o->air, "Air drag on the normal velocity, kg/(m^2 s) (default 0)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--friction", o->friction,
+                  "Coulomb friction coefficient mu between the cloth and every collider, overriding the scene's "
+                  "(drape: 0.3; scene files: their \"friction\", else 0; 0 = frictionless). IPC's lagged smooth "
+                  "friction: the normal force and tangent plane of each contact taken at the step's start; not "
+                  "applied by --integrator linearized (docs/sim.md)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--friction-eps-v", o->eps_v,
+                  "Friction's sticking velocity threshold eps_v, m/s: below it the friction force ramps smoothly "
+                  "from 0 to mu lambda, so static friction is a creep slower than eps_v (default 1e-3 sheet "
+                  "diagonals per second)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--friction-updates", o->friction_updates,
+                  "Re-solves of each step with the normal forces and tangent planes taken at its solution "
+                  "(IPC's lag updates; default 0: lagged at the step's start)")
+      ->check(CLI::Range(0, 100));
   cmd->add_option("--solver", o->solver, "Sparse solver: auto (CHOLMOD when built with it), ldlt (Eigen), cholmod")
       ->check(CLI::IsMember({"auto", "ldlt", "cholmod"}));
   cmd->add_option("--hessian", o->hessian,
@@ -119,6 +150,10 @@ void register_sim(CLI::App& app) {
     if (o->alpha >= 0) s.rayleigh_alpha = o->alpha;
     if (o->beta >= 0) s.rayleigh_beta = o->beta;
     if (o->air >= 0) s.air_drag = o->air;
+    if (o->friction >= 0)
+      for (Collider& c : s.colliders) c.friction = o->friction;
+    if (o->eps_v > 0) s.friction_eps_v = o->eps_v;
+    if (o->friction_updates >= 0) s.friction_updates = o->friction_updates;
     if (!o->render.empty()) {
       s.render_frames.clear();
       if (o->render != "none")
@@ -160,11 +195,12 @@ void register_sim(CLI::App& app) {
     const int threads = o->threads > 0 ? o->threads : omp_get_max_threads();
     std::fprintf(stderr,
                  "sim %s: %d triangles, %d vertices; material %s (%s)%s; density %g kg/m^2%s; %s, dt %g s x %d "
-                 "substep(s), %d %s; %d thread(s); %s\n",
+                 "substep(s), %d %s; friction %s; %d thread(s); %s\n",
                  s.name.c_str(), s.mesh.num_triangles(), s.mesh.num_vertices(), mpath.c_str(), mat.kind.c_str(),
                  mat.missing_terms.empty() ? "" : (", absent terms count as 0: " + mat.missing_terms).c_str(), rho,
                  rho_from.empty() ? "" : (" (from " + rho_from + ")").c_str(), integrator_name(s.integrator), s.dt,
-                 s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames", threads,
+                 s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames",
+                 friction_description(s).c_str(), threads,
                  blas_description());
     const auto start = std::chrono::steady_clock::now();
     const bool tty = stderr_is_tty();

@@ -1,6 +1,7 @@
 // `yarnhom sim` and `yarnhom export-hylc` end to end: the stretch scene on a HYLC material JSON
 // writes force per clamp width equal to the material's stress at the middle; a drape with a
-// trained and baked model stays finite for 90 steps of 1/30 s and ends resting on the sphere;
+// trained and baked model stays finite for 90 steps of 1/30 s and ends resting on the sphere,
+// and off centre stays on it with friction and slides off without;
 // the baked model exported to HYLC's format simulates the same; a scene file with a moving
 // handle runs; bad inputs are refused with the file, key or option named.
 #include <gtest/gtest.h>
@@ -82,6 +83,13 @@ std::string hylc_json(double density) {
   return j.str();
 }
 
+std::array<double, 3> centre_of_mass(const std::vector<std::array<double, 3>>& v) {
+  std::array<double, 3> c = {0, 0, 0};
+  for (const auto& p : v)
+    for (int i = 0; i < 3; ++i) c[i] += p[i] / double(v.size());
+  return c;
+}
+
 bool have_matplotlib() {
   return std::system("/usr/bin/python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0 ||
          std::system("python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0;
@@ -153,6 +161,30 @@ TEST(CliSim, DrapeWithATrainedModelIsStableAndExportRoundTrips) {
   const auto& c = v[6 * 13 + 6];
   EXPECT_NEAR(c[2], 0.15, 0.005);
   EXPECT_LT(std::hypot(c[0], c[1]), 0.01);
+  EXPECT_GT(centre_of_mass(v)[2], 0.0);
+
+  // Off centre by 6 cm (a scene file with one global friction coefficient): the overhang drags
+  // the sheet off a frictionless sphere; with mu = 0.3 it stays draped over it, at rest.
+  std::ofstream(d + "/off.json") << R"({
+    "mesh": {"rectangle": {"width": 0.5, "height": 0.5, "nx": 12, "ny": 12}},
+    "position": {"translate": [-0.19, -0.25, 0.2]},
+    "areal_density": 0.02,
+    "colliders": [{"sphere": {"center": [0, 0, 0], "radius": 0.15}}, {"plane": {"point": [0, 0, -0.15], "normal": [0, 0, 1]}}],
+    "friction": 0.3, "frames": 90, "render": []
+  })";
+  r = run("sim " + d + "/off.json -o " + d + "/off --material " + d + "/b.h5 -q");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto off = read_csv(d + "/off/steps.csv");
+  ASSERT_EQ(off.size(), 90u);
+  EXPECT_LT(off.back()[8], 0.01) << "max speed at the end, m/s";
+  const auto on = centre_of_mass(read_obj_vertices(d + "/off/frames/frame_0090.obj"));
+  EXPECT_GT(on[2], 0.0) << "centre of mass above the sphere's centre";
+  EXPECT_LT(std::hypot(on[0], on[1]), 0.05);
+  r = run("sim " + d + "/off.json -o " + d + "/off0 --material " + d + "/b.h5 -q --friction 0 --frames 60");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto slid = centre_of_mass(read_obj_vertices(d + "/off0/frames/frame_0060.obj"));
+  EXPECT_LT(slid[2], -0.1) << "frictionless: on the floor";
+  EXPECT_GT(std::hypot(slid[0], slid[1]), 0.15);
 
   // export-hylc, then the same few drape frames from the JSON and from the baked file.
   r = run("export-hylc " + d + "/b.h5 -o " + d + "/m.json");
@@ -204,6 +236,23 @@ TEST(CliSim, BadInputsAreRefusedNamingTheProblem) {
   r = run("sim " + d + "/scene2.json -o " + d + "/o --material " + d + "/mat.json");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("colliders[0].cube"), std::string::npos) << r.out;
+  std::ofstream(d + "/scene3.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}}, "friction": -0.1})";
+  r = run("sim " + d + "/scene3.json -o " + d + "/o --material " + d + "/mat.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find(d + "/scene3.json: key 'friction': must be >= 0"), std::string::npos) << r.out;
+  std::ofstream(d + "/scene4.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}},
+    "colliders": [{"plane": {"point": [0, 0, -1], "normal": [0, 0, 1]}, "friction": "rough"}]})";
+  r = run("sim " + d + "/scene4.json -o " + d + "/o --material " + d + "/mat.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("key 'colliders[0].friction': must be a number"), std::string::npos) << r.out;
+  std::ofstream(d + "/scene5.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}},
+    "friction": {"mu": 0.3, "eps": 1}})";
+  r = run("sim " + d + "/scene5.json -o " + d + "/o --material " + d + "/mat.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("key 'friction.eps': unknown key"), std::string::npos) << r.out;
+  r = run("sim drape -o " + d + "/o --material " + d + "/mat.json --friction -1");
+  EXPECT_NE(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("--friction"), std::string::npos) << r.out;
   r = run("sim tumble -o " + d + "/o --material " + d + "/mat.json");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("not a built-in scene"), std::string::npos) << r.out;
