@@ -27,8 +27,9 @@ struct AccuracyOptions {
 struct MaterialResult {
   std::string name;  // "neural" or "spline"
   std::string baked;
-  std::vector<StepMetrics> steps;
-  AccuracySummary summary;
+  std::vector<StepMetrics> steps;  // the tests its continuum strip reached (all, unless it failed)
+  AccuracySummary summary;         // over those tests
+  std::string failure;             // the spline baseline's sim stage failed: why (its steps stop there)
 };
 
 struct AccuracyResult {

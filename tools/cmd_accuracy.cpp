@@ -59,15 +59,18 @@ std::vector<std::string> split_spaces(const std::string& s) {
 }
 
 // The per-step OBJ files in a stage's output folder, in name order (the commands number their
-// steps with zero padding): exactly `n` are expected.
-std::vector<std::string> step_objs(const fs::path& folder, size_t n) {
+// steps with zero padding): exactly `n` are expected, or at least `n` (the first n) for a run that
+// stopped early.
+std::vector<std::string> step_objs(const fs::path& folder, size_t n, bool at_least = false) {
   std::vector<std::string> files;
-  for (const auto& e : fs::recursive_directory_iterator(folder))
-    if (e.is_regular_file() && e.path().extension() == ".obj") files.push_back(e.path().string());
+  if (fs::is_directory(folder))
+    for (const auto& e : fs::recursive_directory_iterator(folder))
+      if (e.is_regular_file() && e.path().extension() == ".obj") files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
-  if (files.size() != n)
+  if (files.size() != n && !(at_least && files.size() > n))
     throw std::runtime_error(folder.string() + ": found " + std::to_string(files.size()) + " OBJ files, expected one per stretch step (" +
                              std::to_string(n) + ")");
+  files.resize(n);
   return files;
 }
 
@@ -141,7 +144,17 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     std::vector<std::string> a = {"sim", "stretch", "-o", sd.string(), "--material", m.baked, "--direction", o.direction,
                                   "--frames", std::to_string(nsteps), "-q"};
     for (const auto& x : split_spaces(o.sim_args)) a.push_back(x);
-    stage({"sim-" + m.name, a, {m.baked}, {(sd / "stretch.csv").string()}});
+    // The neural material is what is tested: its failure fails the command. The baseline's is a
+    // result (HYLC-style linear extrapolation can fall outward and run away): recorded, and its
+    // metrics cover the tests its strip reached.
+    try {
+      stage({"sim-" + m.name, a, {m.baked}, {(sd / "stretch.csv").string()}});
+    } catch (const std::runtime_error& e) {
+      if (m.name == "neural") throw;
+      m.failure = e.what();
+      std::fprintf(stderr, "yarnhom accuracy: the %s baseline's continuum strip stopped early; its metrics cover the tests it "
+                   "reached\n", m.name.c_str());
+    }
   }
 
   // Metrics: step by step, the same stretch ratios in both force curves.
@@ -153,12 +166,15 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   for (MaterialResult& m : r.materials) {
     const fs::path sd = dir / ("sim_" + m.name);
     std::vector<double> cs, ct;
-    read_force((sd / "stretch.csv").string(), cs, ct);
-    if (cs.size() != ys.size())
+    const bool failed = !m.failure.empty();
+    if (!failed || fs::exists(sd / "stretch.csv")) read_force((sd / "stretch.csv").string(), cs, ct);
+    if (failed && cs.size() > 0) cs.resize(std::min(cs.size(), ys.size())), ct.resize(cs.size());
+    if (cs.size() != ys.size() && !(failed && cs.size() < ys.size()))
       throw std::runtime_error((sd / "stretch.csv").string() + ": " + std::to_string(cs.size()) + " steps, the yarn strip has " +
                                std::to_string(ys.size()));
-    const auto objs = step_objs(sd / "frames", cs.size());
-    for (size_t k = 0; k < ys.size(); ++k) {
+    // sim writes frame k >= 1 after step k; the first row (100 %) is the undeformed strip, frame 0.
+    const auto objs = step_objs(sd / "frames", cs.size(), failed);
+    for (size_t k = 0; k < cs.size(); ++k) {
       if (std::abs(cs[k] - ys[k]) > 1e-6)
         throw std::runtime_error("step " + std::to_string(k) + ": stretch " + std::to_string(cs[k]) + " in " + sd.string() +
                                  " but " + std::to_string(ys[k]) + " in the yarn strip");
@@ -183,6 +199,10 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
         std::snprintf(buf, sizeof buf, "%.4f,%.6g", r.stretch[k], r.n_yarn[k]);
         f << buf;
         for (const auto& m : r.materials) {
+          if (k >= m.steps.size()) {  // a baseline that stopped before this test: empty cells
+            f << ",,,,,";
+            continue;
+          }
           const StepMetrics& s = m.steps[k];
           std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.6g,%.6g,%.6g", s.n_cont, s.stress_diff, 100 * s.hausdorff.symmetric,
                         100 * s.hausdorff.points_to_surface, 100 * s.hausdorff.surface_to_points);
@@ -219,6 +239,10 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
     std::snprintf(buf, sizeof buf, "| %.0f %% | %.3f |", 100 * r.stretch[k], r.n_yarn[k]);
     s += buf;
     for (const auto& m : r.materials) {
+      if (k >= m.steps.size()) {
+        s += " stopped |";
+        continue;
+      }
       std::snprintf(buf, sizeof buf, " %.3f, %.3f |", m.steps[k].stress_diff, 100 * m.steps[k].hausdorff.symmetric);
       s += buf;
     }
@@ -231,6 +255,11 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
     std::snprintf(buf, sizeof buf, "  %-7s %.3f N/m, %.3f cm, %.2f %% (%d tests), %.2f %%\n", m.name.c_str(), a.mean_stress_diff,
                   100 * a.mean_hausdorff, 100 * a.mean_rel_error, a.rel_tests, 100 * a.ratio_of_means);
     s += buf;
+    if (!m.failure.empty()) {
+      std::snprintf(buf, sizeof buf, "  %-7s STOPPED after %zu of %zu tests (the means above cover those): ", m.name.c_str(),
+                    m.steps.size(), r.stretch.size());
+      s += buf + m.failure + "\n";
+    }
   }
   std::snprintf(buf, sizeof buf, "total %s\n", format_seconds(r.seconds).c_str());
   s += buf;

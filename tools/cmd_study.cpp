@@ -189,7 +189,10 @@ void register_study_accuracy(CLI::App& app) {
             const double* paper = nullptr;
             if (it != paper_table5().end()) paper = m.name == "neural" ? it->second.ours : it->second.hylc;
             const AccuracySummary& s = m.summary;
-            md += "| " + name + " | " + d + " | " + m.name + " | " + fmt(s.mean_stress_diff) + " | " + fmt(100 * s.mean_hausdorff) +
+            const std::string label = m.failure.empty() ? m.name
+                                                        : m.name + " (stopped after " + std::to_string(m.steps.size()) + " of " +
+                                                              std::to_string(r.stretch.size()) + " tests)";
+            md += "| " + name + " | " + d + " | " + label + " | " + fmt(s.mean_stress_diff) + " | " + fmt(100 * s.mean_hausdorff) +
                   " | " + fmt(100 * s.mean_rel_error) + " | " + fmt(100 * s.ratio_of_means) + " | " +
                   (paper ? fmt(paper[0]) + " | " + fmt(paper[1]) + " | " + fmt(paper[2]) : "- | - | -") + " |\n";
             csv += name + "," + d + "," + m.name + "," + std::to_string(s.tests) + "," + fmt(s.mean_stress_diff, "%.6g") + "," +
