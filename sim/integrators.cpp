@@ -25,13 +25,7 @@ void accumulate(NewtonStats& into, const NewtonStats& more) {
   into.t_assemble += more.t_assemble;
   into.t_solve += more.t_solve;
   into.t_line_search += more.t_line_search;
-  into.shell.strain += more.shell.strain;
-  into.shell.material += more.shell.material;
-  into.shell.chain += more.shell.chain;
-  into.shell.project += more.shell.project;
-  into.shell.scatter += more.shell.scatter;
-  into.shell.elements += more.shell.elements;
-  into.shell.projected += more.shell.projected;
+  into.shell += more.shell;
   into.converged = more.converged;
   into.energy = more.energy;
   into.step_norm = more.step_norm;

@@ -128,14 +128,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       for (size_t i = 0; i < nnz; ++i) values[i] += h_local[k][i];
   }
   if (timings) {
-    for (const ShellTimings& tm : tim) {
-      timings->strain += tm.strain;
-      timings->material += tm.material;
-      timings->chain += tm.chain;
-      timings->project += tm.project;
-      timings->scatter += tm.scatter;
-      timings->projected += tm.projected;
-    }
+    for (const ShellTimings& tm : tim) *timings += tm;  // per-thread elements are 0: counted below
     timings->elements += m.num_triangles();
   }
   return E;

@@ -22,6 +22,16 @@ std::vector<ElementRest> make_element_rests(const Mesh& mesh);
 struct ShellTimings {
   double strain = 0, material = 0, chain = 0, project = 0, scatter = 0;
   long elements = 0, projected = 0;
+  ShellTimings& operator+=(const ShellTimings& o) {
+    strain += o.strain;
+    material += o.material;
+    chain += o.chain;
+    project += o.project;
+    scatter += o.scatter;
+    elements += o.elements;
+    projected += o.projected;
+    return *this;
+  }
 };
 
 // theta_ref (optional, everywhere below): 3 per triangle, the branches of its dihedral angles
