@@ -58,7 +58,7 @@ BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d, BakeRepor
                         const double* min_curvature) {
   const int d = net.term.dim();
   std::vector<int> knots(d, d == 1 ? res1d : res2d);
-  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, network_function(net), report, repair,
+  BakedTable t = bake_function(net.term, net.lower, net.upper, knots, material_function(net), report, repair,
                                min_curvature);
   t.desc = net.desc;
   t.norm = net.norm;

@@ -98,7 +98,7 @@ void register_bake(CLI::App& app) {
       std::string knots = std::to_string(t.knots[0]) + (t.dim() == 2 ? "x" + std::to_string(t.knots[1]) : "");
       std::string dev = "-", gdev = "-";
       if (!o->no_check) {
-        BakeDeviation d = bake_deviation(network_function(net), baked_function(make_baked_term(t)), t.dim(),
+        BakeDeviation d = bake_deviation(material_function(net), baked_function(make_baked_term(t)), t.dim(),
                                          t.lower, t.upper, t.dim() == 1 ? 2003 : 101);
         char b1[32], b2[32];
         std::snprintf(b1, sizeof b1, "%.3e", d.max_rel);

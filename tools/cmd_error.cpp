@@ -72,7 +72,7 @@ void print_compare(const Model& model, const std::vector<Term>& wanted) {
     if (!found) continue;
     const ModelNetwork& net = *found;
     std::printf("%-5s ", net.term.name.c_str());
-    const auto ref = network_function(net);
+    const auto ref = material_function(net);  // what bake bakes (2D: the axis projection)
     for (int k = 0; k < 3; ++k) {
       // The interpolation alone: without the 1D end repair, whose change does not depend on
       // the resolution (bake reports it; 2D tables are never changed).
@@ -206,7 +206,7 @@ void register_error(CLI::App& app) {
       if (baked && model) {
         if (const ModelNetwork* n = model->find(term.name)) {
           r.has_dev = true;
-          r.dev = bake_deviation(network_function(*n), f, d, lo, hi);
+          r.dev = bake_deviation(material_function(*n), f, d, lo, hi);
         }
       }
       rows.push_back(r);

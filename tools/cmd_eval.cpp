@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bake/baked_eval.hpp"
+#include "bake/term_function.hpp"
 #include "core/baked.hpp"
 #include "core/jet_layout.hpp"
 #include "core/model.hpp"
@@ -73,7 +74,9 @@ void register_eval(CLI::App& app) {
       "eval",
       "Evaluate one term of a model at given strains. Prints CSV in physical units (J/m^2, "
       "strains as in the spec): the strain, the energy Psi_I, its gradient, Hessian and third "
-      "derivatives with respect to the term's strain components. MODEL may also be a baked file "
+      "derivatives with respect to the term's strain components. For a 2D term of a model this "
+      "is the term the network stands for in the material, its axis projection N(x,y) - N(x,0) "
+      "- N(0,y) + N(0,0), which is what bake bakes (docs/bake.md). MODEL may also be a baked file "
       "(from bake): the same columns from its table, inside or outside the box (safeguard), so "
       "the two can be compared at any strain.");
   cmd->add_option("MODEL", o->model, "Model file (HDF5) written by train-all, or baked file written by bake")->required()->check(existing_regular_file());
@@ -130,7 +133,7 @@ void register_eval(CLI::App& app) {
                                       " must lie within +-1e6");
     std::vector<double> jet;
     if (net) {
-      jet = cpu::eval_network_physical(*net, pts.data(), n, 3);
+      jet = material_function(*net)(pts.data(), n, 3);  // what bake bakes (2D: the axis projection)
     } else {
       const BakedTerm bt = make_baked_term(*table, o->model);
       const int C = jet_channels(d, 3);

@@ -181,7 +181,11 @@ TEST(Material, SeriesSwitchIsContinuous) {
       const double gs = 1 + a.grad.cwiseAbs().maxCoeff() * 400, hs = 1 + a.hess.cwiseAbs().maxCoeff() * 400 * 400;
       EXPECT_NEAR(a.value, b.value, 1e-10 * (1 + std::abs(a.value))) << name;
       EXPECT_LT((a.grad - b.grad).cwiseAbs().maxCoeff() * 400, 1e-7 * gs) << name;
-      EXPECT_LT((a.hess - b.hess).cwiseAbs().maxCoeff() * 400 * 400, 1e-5 * hs) << name << "\n" << a.hess << "\n" << b.hess;
+      // The series is exact for one cubic cell; across a knot within tau its Hessian misses the
+      // jump of h''' there times tau, relative ~1e-5 for these random tables (3.9e-4 of hs = 37
+      // on term 13 since 2D terms are baked as the network's axis projection, whose y-variation
+      // adds N(0, y)'s): 2e-5.
+      EXPECT_LT((a.hess - b.hess).cwiseAbs().maxCoeff() * 400 * 400, 2e-5 * hs) << name << "\n" << a.hess << "\n" << b.hess;
     }
   }
 }

@@ -73,7 +73,7 @@ TEST(FitError, KnownResiduals) {
 // The deviation of a baked network falls with resolution as the h^4 of Hermite interpolation.
 TEST(BakeDeviation, FallsWithResolution) {
   ModelNetwork net = test::random_model_network("02", {-0.2, -0.2}, {1.0, 1.0}, 61);
-  auto ref = network_function(net);
+  auto ref = material_function(net);  // what bake bakes
   double prev = 1e300;
   for (int res : {13, 25, 49}) {
     BakedTerm t = make_baked_term(bake_network(net, 200, res, nullptr, false));  // interpolation alone
@@ -83,4 +83,56 @@ TEST(BakeDeviation, FallsWithResolution) {
     EXPECT_LT(d.max_rel, prev / 8) << res;
     prev = d.max_rel;
   }
+}
+
+// The axis projection of a 2D term (bake/term_function.hpp): 0 with its gradient along both
+// axes (to rounding), every mixed derivative the network's, the identity on a function that
+// already vanishes on the axes, and its jet the derivatives of its value (central differences).
+TEST(AxisProjection, VanishesOnTheAxesAndKeepsTheMixedDerivatives) {
+  const ModelNetwork net = test::random_model_network("02", {-0.2, -0.3}, {1.0, 0.8}, 62);
+  const TermFunction N = network_function(net), R = material_function(net);
+  const std::vector<double> pts = {0.37, 0.0, 0.0, -0.21, 0.0, 0.0, -0.15, 0.0, 0.0, 0.55, 0.4, -0.25};
+  const int n = 6;
+  const std::vector<double> r = R(pts.data(), n, 3), nn = N(pts.data(), n, 3);
+  double scale = 0;
+  for (double v : nn) scale = std::max(scale, std::abs(v));
+  const double tol = 1e-14 * scale;
+  for (int p = 0; p < 4; ++p) {
+    EXPECT_NEAR(r[p], 0.0, tol) << p;  // value on an axis
+    if (pts[2 * p + 1] == 0) {
+      EXPECT_NEAR(r[size_t(1) * n + p], 0.0, tol) << p;  // d/dx along the x axis
+      EXPECT_NEAR(r[size_t(3) * n + p], 0.0, tol) << p;  // d2/dx2 along it
+    }
+    if (pts[2 * p] == 0) {
+      EXPECT_NEAR(r[size_t(2) * n + p], 0.0, tol) << p;  // d/dy along the y axis
+    }
+  }
+  // The network is not 0 there: the projection did something.
+  EXPECT_GT(std::abs(nn[0]) + std::abs(nn[size_t(1) * n]), 1e-6 * scale);
+  // Mixed derivatives (channels 4 f_xy, 7 f_xxy, 8 f_xyy) are the network's everywhere.
+  for (int c : {4, 7, 8})
+    for (int p = 0; p < n; ++p)
+      EXPECT_NEAR(r[size_t(c) * n + p], nn[size_t(c) * n + p], 1e-12 * (1 + std::abs(nn[size_t(c) * n + p])));
+  // The jet is the derivative of the value, off the axes.
+  const double x = 0.55, y = 0.4, h = 1e-5;
+  auto at = [&](double u, double v, int order) {
+    const double s[2] = {u, v};
+    return R(s, 1, order);
+  };
+  const std::vector<double> j = at(x, y, 2);
+  EXPECT_NEAR(j[1], (at(x + h, y, 0)[0] - at(x - h, y, 0)[0]) / (2 * h), 1e-7 * (1 + std::abs(j[1])));
+  EXPECT_NEAR(j[2], (at(x, y + h, 0)[0] - at(x, y - h, 0)[0]) / (2 * h), 1e-7 * (1 + std::abs(j[2])));
+  EXPECT_NEAR(j[3], (at(x + h, y, 1)[1] - at(x - h, y, 1)[1]) / (2 * h), 1e-6 * (1 + std::abs(j[3])));
+  EXPECT_NEAR(j[5], (at(x, y + h, 1)[2] - at(x, y - h, 1)[2]) / (2 * h), 1e-6 * (1 + std::abs(j[5])));
+  // Identity on x y (1 + x), which vanishes on both axes.
+  test::Poly q;
+  q.c[1][1] = 1;
+  q.c[2][1] = 1;
+  const TermFunction Q = test::poly_function(q, 2), PQ = axis_projection(Q, 2);
+  const std::vector<double> a = Q(pts.data(), n, 3), b = PQ(pts.data(), n, 3);
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-15) << k;
+  // A box without the origin keeps the network.
+  const ModelNetwork off = test::random_model_network("02", {0.1, -0.3}, {1.0, 0.8}, 63);
+  const double s[2] = {0.5, 0.0};
+  EXPECT_EQ(material_function(off)(s, 1, 0)[0], network_function(off)(s, 1, 0)[0]);
 }

@@ -283,14 +283,14 @@ TEST(Safeguard, TwoDimensionalTablesAreTheNetworkUpToTheBoundary) {
     int inward = 0;
     for (int j = 0; j < 60; ++j) {
       const double s[2] = {c.hi[0], knot_position(c.lo[1], c.hi[1], 60, j)};
-      const auto ref = cpu::eval_network_physical(net, s, 1, 1);
+      const auto ref = material_function(net)(s, 1, 1);  // the network's axis projection
       const size_t q = size_t(59) * 60 + j;
       EXPECT_NEAR(tb.f[q], ref[0], 1e-12 * (1 + std::abs(ref[0])));
       EXPECT_NEAR(tb.f_x[q], ref[1], 1e-9 * (1 + std::abs(ref[1])));
       inward += ref[1] < 0;
     }
     const BakedTerm t = make_baked_term(tb);
-    const BakeDeviation whole = bake_deviation(network_function(net), baked_function(t), 2, c.lo, c.hi, 121);
+    const BakeDeviation whole = bake_deviation(material_function(net), baked_function(t), 2, c.lo, c.hi, 121);
     double layer_max = 0;
     for (int e = 0; e < 4; ++e) {
       const int axis = e / 2;
@@ -298,7 +298,7 @@ TEST(Safeguard, TwoDimensionalTablesAreTheNetworkUpToTheBoundary) {
       const double w = 0.05 * (c.hi[axis] - c.lo[axis]);
       if (e % 2) lo[axis] = hi[axis] - w;
       else hi[axis] = lo[axis] + w;
-      layer_max = std::max(layer_max, bake_deviation(network_function(net), baked_function(t), 2, lo, hi, 61).max_abs);
+      layer_max = std::max(layer_max, bake_deviation(material_function(net), baked_function(t), 2, lo, hi, 61).max_abs);
     }
     EXPECT_LT(layer_max, 1e-4 * whole.range) << c.pair << " (the whole box: " << whole.max_rel << ")";
     std::printf("%s: inward slopes at %d of 60 x-upper knots; max |baked - net| / range: box %.2e, outer 5%% %.2e\n",
