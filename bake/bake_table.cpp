@@ -87,13 +87,12 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
   // pair whose box shares that end.
   std::vector<std::array<double, 2>> floors(b.tables.size(), {0.0, 0.0});
   {
-    std::vector<BakedTerm> terms;
-    for (const BakedTable& t : b.tables) terms.push_back(make_baked_term(t));
+    const std::vector<PairCheck> pcs = check_pairs(b);
     for (size_t k = 0; k < b.tables.size(); ++k) {
       const BakedTable& t2 = b.tables[k];
       if (t2.dim() != 2 || t2.extrapolation == kBakedLinear) continue;
       const int one[2] = {index_1d(t2.term.indices[0]), index_1d(t2.term.indices[1])};
-      const PairCheck pc = check_pair(terms[k], one[0] >= 0 ? &terms[one[0]] : nullptr, one[1] >= 0 ? &terms[one[1]] : nullptr);
+      const PairCheck& pc = pcs[k];
       for (int axis = 0; axis < 2; ++axis) {
         if (one[axis] < 0) continue;
         const BakedTable& t1 = b.tables[one[axis]];
@@ -121,16 +120,12 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
   std::vector<BakedTerm> one_d;
   for (const BakedTable& t : b.tables)
     if (t.dim() == 1) one_d.push_back(make_baked_term(t));
-  auto find_1d = [&](int index) -> const BakedTerm* {
-    for (const BakedTerm& t : one_d)
-      if (t.term.indices[0] == index) return &t;
-    return nullptr;
-  };
   if (reports) *reports = rep;
   for (size_t k = 0; k < b.tables.size(); ++k) {
     BakedTable& t = b.tables[k];
     if (t.dim() != 2) continue;
-    const CornerTwistRepair r = repair_corner_twists(t, find_1d(t.term.indices[0]), find_1d(t.term.indices[1]));
+    const CornerTwistRepair r =
+        repair_corner_twists(t, find_one_d(one_d, t.term.indices[0]), find_one_d(one_d, t.term.indices[1]));
     if (reports) (*reports)[k].corners = r;
   }
   if (reports) {

@@ -99,18 +99,19 @@ PairCheck check_pair(const BakedTerm& t, const BakedTerm* ti, const BakedTerm* t
   return p;
 }
 
+const BakedTerm* find_one_d(const std::vector<BakedTerm>& terms, int strain) {
+  for (const BakedTerm& t : terms)
+    if (t.dim == 1 && t.term.indices[0] == strain) return &t;
+  return nullptr;
+}
+
 std::vector<PairCheck> check_pairs(const BakedModel& m) {
   std::vector<BakedTerm> terms;
   for (const BakedTable& tb : m.tables) terms.push_back(make_baked_term(tb));
-  auto find_1d = [&](int index) -> const BakedTerm* {
-    for (const BakedTerm& t : terms)
-      if (t.dim == 1 && t.term.indices[0] == index) return &t;
-    return nullptr;
-  };
   std::vector<PairCheck> out(terms.size());
   for (size_t k = 0; k < terms.size(); ++k)
     if (terms[k].dim == 2)
-      out[k] = check_pair(terms[k], find_1d(terms[k].term.indices[0]), find_1d(terms[k].term.indices[1]));
+      out[k] = check_pair(terms[k], find_one_d(terms, terms[k].term.indices[0]), find_one_d(terms, terms[k].term.indices[1]));
   return out;
 }
 

@@ -46,4 +46,7 @@ PairCheck check_pair(const BakedTerm& t2, const BakedTerm* ti, const BakedTerm* 
 // One check per 2D table of the model, in table order (1D tables get an empty check).
 std::vector<PairCheck> check_pairs(const BakedModel& m);
 
+// The 1D term of strain `strain` among `terms` (null: the model has none).
+const BakedTerm* find_one_d(const std::vector<BakedTerm>& terms, int strain);
+
 }  // namespace yarnhom

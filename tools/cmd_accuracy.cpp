@@ -168,7 +168,6 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     std::vector<double> cs, ct;
     const bool failed = !m.failure.empty();
     if (!failed || fs::exists(sd / "stretch.csv")) read_force((sd / "stretch.csv").string(), cs, ct);
-    if (failed && cs.size() > 0) cs.resize(std::min(cs.size(), ys.size())), ct.resize(cs.size());
     if (cs.size() != ys.size() && !(failed && cs.size() < ys.size()))
       throw std::runtime_error((sd / "stretch.csv").string() + ": " + std::to_string(cs.size()) + " steps, the yarn strip has " +
                                std::to_string(ys.size()));
