@@ -91,7 +91,7 @@ std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
   // resumed (they may hold states with yarns passed through each other). The sectors and the
   // warm-start mode decide which state each node starts from: a resumed run must share them.
   f << p.name << " n=" << p.size() << " preset=" << opt.preset << " tol=" << opt.solve.tolerance
-    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd"
+    << " rest=" << (opt.free_period ? "stress-free" : "pattern-period") << " contact=barrier-ccd height=mean"
     << " sectors=" << std::max(1, opt.sectors)
     << " start=" << (!opt.warm_start ? "cold" : opt.predictor ? "warm+predictor" : "warm")
     << " branch=" << (opt.warm_start ? opt.branch_rounds : 0) << "/" << opt.branch_tolerance << "/direct40";

@@ -56,8 +56,17 @@ RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options, c
   npos_.assign(n, 3);
   basis_.assign(n, Eigen::Matrix3d::Identity());
   pinned_vertex_ = topo_.yarns[0][0];
-  npos_[pinned_vertex_] = 0;
+  // Its in-plane components are pinned; its normal component is not an unknown but follows
+  // from the others: the yarns' mean height over the mid-surface stays where the pattern put
+  // it (docs/rve.md section 4). Under curvature a pin on the normal component fixed the height
+  // of one point only, and the rest of the tile slid through the thickness towards the centre
+  // of curvature, where the stretched yarns are shorter: on the paper's basket at s_x = 0.3,
+  // II_x = 100 /m the yarns' mean height moved 1.4 mm (a yarn radius and more), Psi fell from
+  // 2.47 to 2.20 J/m^2 and the flat stretched tile became a maximum in bending, which a
+  // continuum strip then wrinkled on. One slot beyond the unknowns carries it during assembly.
+  npos_[pinned_vertex_] = 1;
   basis_[pinned_vertex_].setZero();
+  basis_[pinned_vertex_](2, 0) = 1.0;
   // The yarn's direction in the reference tile (the stored edges mapped by F0).
   Eigen::Matrix3d F03 = Eigen::Matrix3d::Identity();
   F03.topLeftCorner<2, 2>() = F0_;
@@ -88,15 +97,26 @@ RveProblem::RveProblem(Pattern pattern, Material material, RveOptions options, c
   pos_index_.assign(n, -1);
   std::vector<double> scale;
   for (int v = 0; v < n; ++v) {
-    pos_index_[v] = ndof_;
-    for (int c = 0; c < npos_[v]; ++c) scale.push_back(1.0);
-    ndof_ += npos_[v];
+    if (v != pinned_vertex_) {
+      pos_index_[v] = ndof_;
+      for (int c = 0; c < npos_[v]; ++c) scale.push_back(1.0);
+      ndof_ += npos_[v];
+    }
     if (theta_free[v]) {
       theta_index_[v] = ndof_++;
       scale.push_back(1.0 / r);
     }
   }
   scale_ = Eigen::Map<Eigen::VectorXd>(scale.data(), scale.size());
+  pos_index_[pinned_vertex_] = ndof_;  // the dependent slot, removed at the end of evaluate()
+  // sum_v w_v u_v,n = 0 with w_v the vertex's share of yarn length: u_p,n = height_coef_ . y.
+  height_weight_.resize(n);
+  for (int v = 0; v < n; ++v) height_weight_[v] = 0.5 * (p_.rest_length[topo_.prev[v]] + p_.rest_length[v]);
+  height_coef_.setZero(ndof_);
+  for (int v = 0; v < n; ++v)
+    if (v != pinned_vertex_)
+      for (int c = 0; c < npos_[v]; ++c)
+        height_coef_[pos_index_[v] + c] = -height_weight_[v] / height_weight_[pinned_vertex_] * basis_[v](2, c);
 
   // Same-yarn segment pairs too close along the yarn to touch without bending sharper than the
   // yarn's own radius (rest arc gap below exclusion_arc * r), with the tile offset at which
@@ -339,8 +359,9 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
                             Strain* dEds) const {
   const int n = p_.size();
   const bool ds = dEds != nullptr;
-  if (grad) grad->setZero(ndof_);
+  if (grad) grad->setZero(ndof_ + 1);  // + the dependent height slot (constructor)
   if (dEds) dEds->setZero();
+  const size_t hess_start = hess ? hess->size() : 0;
   const bool derivs = grad || hess || dEds;
   // Every point is computed once: the base tile, each vertex's neighbours along its yarn, and
   // (below) the images that contact pairs use.
@@ -385,7 +406,7 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   {
     const int tid = par ? omp_get_thread_num() : 0;
     Local& L = local[tid];
-    if (grad) L.g.setZero(ndof_);
+    if (grad) L.g.setZero(ndof_ + 1);
     Eigen::VectorXd* G = grad ? &L.g : nullptr;
     std::vector<Eigen::Triplet<double>>* T = hess ? &L.trip : nullptr;
     Strain* D = dEds ? &L.d : nullptr;
@@ -485,14 +506,64 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
     if (dEds) *dEds += L.d;
   }
   if (parts) *parts = e;
+  eliminate_height(grad, hess, hess_start);
   return e.total();
+}
+
+// The dependent slot d (the pinned vertex's height) is u_d = a . y with a = height_coef_, so by
+// the chain rule g_y += g_d a and H_yy += a h^T + h a^T + H_dd a a^T with h = H_yd: a dense
+// rank-2 term over the height unknowns (one per vertex; the RVE's Hessian is factored densely
+// at the paper's sizes, yarn/hessian_factor.hpp). It keeps a projected Hessian PSD.
+void RveProblem::eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess,
+                                  size_t hess_start) const {
+  const int d = ndof_;
+  const Eigen::VectorXd& a = height_coef_;
+  if (grad) {
+    grad->head(d) += (*grad)[d] * a;
+    grad->conservativeResize(d);
+  }
+  if (!hess) return;
+  Eigen::VectorXd h = Eigen::VectorXd::Zero(d);
+  double Hdd = 0;
+  size_t keep = hess_start;
+  for (size_t i = hess_start; i < hess->size(); ++i) {
+    const Eigen::Triplet<double>& t = (*hess)[i];
+    if (t.row() == d && t.col() == d) Hdd += t.value();
+    else if (t.row() == d) h[t.col()] += t.value();  // lower triangle: the slot is the last row
+    else (*hess)[keep++] = t;
+  }
+  hess->resize(keep);
+  std::vector<int> idx;
+  for (int i = 0; i < d; ++i)
+    if (a[i] != 0 || h[i] != 0) idx.push_back(i);
+  for (size_t p = 0; p < idx.size(); ++p)
+    for (size_t q = 0; q <= p; ++q) {
+      const int i = idx[p], j = idx[q];
+      const double v = a[i] * h[j] + h[i] * a[j] + Hdd * a[i] * a[j];
+      if (v != 0) hess->emplace_back(i, j, v);
+    }
 }
 
 void RveProblem::apply_step(const Eigen::VectorXd& dy, double alpha, RveState& st) const {
   for (int v = 0; v < p_.size(); ++v) {
-    for (int c = 0; c < npos_[v]; ++c) st.u[v] += alpha * dy[pos_index_[v] + c] * basis_[v].col(c);
+    if (v != pinned_vertex_)
+      for (int c = 0; c < npos_[v]; ++c) st.u[v] += alpha * dy[pos_index_[v] + c] * basis_[v].col(c);
     if (theta_index_[v] >= 0) st.theta[v] += alpha * dy[theta_index_[v]];
   }
+  st.u[pinned_vertex_] = Eigen::Vector3d(0, 0, dependent_height(st));
+}
+
+double RveProblem::dependent_height(const RveState& st) const {
+  double sum = 0;
+  for (int v = 0; v < p_.size(); ++v)
+    if (v != pinned_vertex_) sum += height_weight_[v] * st.u[v][2];
+  return -sum / height_weight_[pinned_vertex_];
+}
+
+double RveProblem::mean_height(const RveState& st) const {
+  double sum = 0, w = 0;
+  for (int v = 0; v < p_.size(); ++v) sum += height_weight_[v] * st.u[v][2], w += height_weight_[v];
+  return sum / w;
 }
 
 }  // namespace yarnhom::yarn

@@ -155,8 +155,12 @@ class RveProblem {
   std::vector<Pair> contact_pairs(const Strain& s, const RveState& st, double margin) const;
   bool excluded(int a, int b, Eigen::Vector2i o) const;
 
-  // Zero modes handled (for reports and tests).
+  // Zero modes handled (for reports and tests). The pinned vertex's in-plane components are
+  // pinned; its normal component is set from the others' by apply_step, so that the yarns'
+  // mean height over the mid-surface (weighted by yarn length) stays at the pattern's.
   int pinned_vertex() const { return pinned_vertex_; }
+  double dependent_height(const RveState& st) const;  // the pinned vertex's u_n implied by the others
+  double mean_height(const RveState& st) const;       // sum_v w_v u_v,n / sum_v w_v (m)
   const std::vector<int>& slide_pinned() const { return slide_pinned_; }   // vertex per yarn
   const std::vector<int>& twist_pinned() const { return twist_pinned_; }   // vertex per yarn
 
@@ -174,6 +178,7 @@ class RveProblem {
                const Eigen::Matrix<double, M, 1>& gl, const Eigen::Matrix<double, M, M>* Hl,
                Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, Strain* dEds) const;
   static uint64_t pair_key(int a, int b, Eigen::Vector2i o);
+  void eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, size_t hess_start) const;
 
   Pattern p_;
   Material m_;
@@ -187,6 +192,8 @@ class RveProblem {
   std::vector<int> pos_index_, npos_, theta_index_;
   std::vector<Eigen::Matrix3d> basis_;
   Eigen::VectorXd scale_;
+  std::vector<double> height_weight_;  // per vertex: half its two edges' rest lengths
+  Eigen::VectorXd height_coef_;        // the pinned vertex's u_n = height_coef_ . y
   int pinned_vertex_ = -1;
   std::vector<int> slide_pinned_, twist_pinned_;
   std::unordered_set<uint64_t> excluded_;

@@ -172,7 +172,7 @@ TEST(Rest, EnvelopeGradientInTheRelaxedReferenceMatchesFiniteDifferences) {
   const DensityResult r = energy_density(t.rve, s0, st, opt);
   ASSERT_TRUE(r.report.converged());
   for (int k = 0; k < 6; ++k) {
-    const double h = k < 3 ? 1e-4 : 0.1;
+    const double h = k < 3 ? 3e-5 : 0.1;  // 1e-4 in-plane: O(h^2) error 2e-6 of the bent, stretched tile
     Strain sp = s0, sm = s0;
     sp[k] += h;
     sm[k] -= h;

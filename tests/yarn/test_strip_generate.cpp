@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <random>
@@ -261,6 +262,7 @@ TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
     const double EA = P.stretch_stiffness(), mx = 1.5 * relaxed(pat).lattice(0, 0), my = 2.5 * relaxed(pat).lattice(1, 1);
     int checked = 0, backward = 0;
     double worst = 0, edge = 0, reaction = 0;
+    double pmin = INFINITY, pmax = -INFINITY;  // normal force per unit yarn length
     const Topology topo = topology(relaxed(pat).pattern);
     for (int v = 3; v + 3 < s.size(); ++v) {
       bool yarn = true;
@@ -281,8 +283,17 @@ TEST(StripGenerate, InteriorIsThePeriodicTilesEquilibrium) {
         reaction = std::max(reaction, vg[v].norm() / EA);
         continue;
       }
-      worst = std::max({worst, vg[v].norm() / EA, std::abs(g[P.theta_index(v)]) / (EA * s.radius)});
+      // The RVE also holds the yarns' mean height (rve.hpp): its reaction is a uniform normal
+      // force per unit yarn length, which balances the slide constraints' normal reactions (a
+      // woven yarn's tangent is not in the plane; zero on the knit).
+      const double w = 0.5 * (s.rest_length[v - 1] + s.rest_length[v]);
+      pmin = std::min(pmin, vg[v].z() / w);
+      pmax = std::max(pmax, vg[v].z() / w);
+      worst = std::max({worst, vg[v].head<2>().norm() / EA, std::abs(g[P.theta_index(v)]) / (EA * s.radius)});
     }
+    const double lattice = relaxed(pat).lattice(0, 0);
+    std::printf("%s: mean-height reaction %.3g to %.3g EA per tile width\n", pat.c_str(), pmin * lattice / EA, pmax * lattice / EA);
+    EXPECT_LT((pmax - pmin) * lattice / EA, 1e-9) << pat << ": the normal residual is one uniform pressure";
     std::printf("%s: largest slide-constraint reaction %.3g EA\n", pat.c_str(), reaction);
     EXPECT_GT(checked, 20) << pat;
     EXPECT_GT(backward, 0) << pat << ": backward rows are checked too";
