@@ -161,7 +161,7 @@ void register_study_accuracy(CLI::App& app) {
         "the paper's figures. Patterns share their dataset and materials across directions.");
     cmd->add_option("PATTERNS", o->patterns, "Pattern files (.pyp) or built-in names: the paper's are basket, stockinette, slip_stitch_honeycomb, cartridge_belt_rib")
         ->required();
-    cmd->add_option("--directions", o->directions, "Directions to test")->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
+    cmd->add_option("--directions", o->directions, "Directions to test (comma-separated or repeated)")->delimiter(',')->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
     cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
     add_accuracy_options(cmd, o->acc);
     cmd->callback([o] {
@@ -301,7 +301,7 @@ void register_study_accuracy(CLI::App& app) {
         "(1, 2, 3 by default), each trained, baked and tested against the same yarn strip "
         "(wale by default): production time and mean stress difference. OUT/table2.md and .csv.");
     cmd->add_option("PATTERN", o->pattern, "Pattern file (.pyp)")->required()->check(existing_regular_file());
-    cmd->add_option("--tiles", o->tiles, "Patch sizes n (n x n tiles)")->check(CLI::Range(1, 8))->capture_default_str();
+    cmd->add_option("--tiles", o->tiles, "Patch sizes n (n x n tiles; comma-separated or repeated)")->delimiter(',')->check(CLI::Range(1, 8))->capture_default_str();
     cmd->add_option("--direction", o->direction, "Stretch direction")->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
     cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
     add_accuracy_options(cmd, o->acc);
