@@ -229,6 +229,14 @@ void run(const StripOpts& o) {
   int computed = 0;
   double compute_seconds = 0;
   bool failed = false;
+  auto write_force_csv = [&] {
+    std::string csv =
+        "step,stretch,tension_N_per_m,force_N,force_low_N,force_high_N,balance,energy_J,stretch_J,bend_J,twist_J,"
+        "contact_J,barrier_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,certified,"
+        "checked_moves,status\n";
+    for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
+    write_text(dir / "force.csv", csv);
+  };
   for (size_t k = 0; k < stretches.size(); ++k) {
     const fs::path step_file = dir / "steps" / (step_name(int(k)) + ".h5");
     if (fs::exists(step_file) && computed == 0) {
@@ -263,12 +271,7 @@ void run(const StripOpts& o) {
       yarn::write_step(step_file.string(), strip, r, st);
       yarn::write_centrelines((dir / "centrelines" / (step_name(int(k)) + ".obj")).string(), strip, st.x);
     }
-    std::string csv =
-        "step,stretch,tension_N_per_m,force_N,force_low_N,force_high_N,balance,energy_J,stretch_J,bend_J,twist_J,"
-        "contact_J,barrier_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,certified,"
-        "checked_moves,status\n";
-    for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
-    write_text(dir / "force.csv", csv);
+    write_force_csv();
     if (o.verbose) std::fprintf(stderr, "yarnhom strip: %s\n", r.solve.summary().c_str());
     const size_t left = stretches.size() - k - 1;
     std::fprintf(stderr,
@@ -290,6 +293,9 @@ void run(const StripOpts& o) {
     }
   }
 
+  // Also when every step was kept: a run killed between a step file and force.csv left the
+  // table one row short.
+  if (computed == 0 && !done.empty()) write_force_csv();
   std::printf("%-6s %-8s %-14s %-12s %-10s %-6s %s\n", "step", "stretch", "tension N/m", "force N", "balance", "iter",
               "seconds");
   for (size_t j = 0; j < done.size(); ++j)

@@ -93,6 +93,12 @@ TEST(CliStrip, KilledAndRerunGivesTheSameForceCurve) {
   EXPECT_EQ(curve(out + "/force.csv"), whole);
   for (auto& e : fs::recursive_directory_iterator(out))
     EXPECT_EQ(e.path().string().find(".partial"), std::string::npos) << e.path();
+  // Killed after its last step file but before force.csv: a rerun keeps every step and writes
+  // the whole table.
+  fs::remove(out + "/force.csv");
+  r = yarnhom::test::run_cli("strip " + pattern() + args() + " --stretch 1.0:1.1:0.05 -o " + out);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(curve(out + "/force.csv"), whole);
 
   // A longer list extends the finished run; its first steps are kept.
   r = yarnhom::test::run_cli("strip " + pattern() + args() + " --stretch 1.0:1.15:0.05 -o " + out);
