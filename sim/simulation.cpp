@@ -162,10 +162,6 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     row.middle_dpsi = material(row.middle_strain).grad[stretch_index];
     return row;
   };
-  if (scene.stretch.enabled) {
-    R.stretch.push_back(stretch_row(R.x, 0.0));
-    if (!dir.empty()) write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
-  }
   const double h = scene.dt / scene.substeps;
   NewtonSettings nopt = scene.newton;
   if (!(nopt.tol_step > 0)) {
@@ -173,6 +169,23 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     nopt.tol_step = dynamic ? 1e-2 * diag * h : 1e-8 * diag;
   }
   R.tol_step = nopt.tol_step;
+  if (!dynamic) {
+    // A quasi-static load path starts in equilibrium: the sheet relaxes at load 0 first (a
+    // material with a natural bending moment curls, one with a rest stress settles), as the
+    // yarn strip relaxes at 100 % before it is stretched. Before, frame 0 and the first
+    // stretch row were the undeformed mesh.
+    const Eigen::VectorXd target = handle_targets(scene.handles, x0, 0.0);
+    const Eigen::VectorXd previous = R.x;
+    const StepStats st0 = static_solve(P, D, pat, solver, R.x, target, nopt, set.profile, &hinges, &previous);
+    R.finite = R.finite && st0.finite;
+    R.all_converged = R.all_converged && st0.newton.converged;
+    if (!R.finite) return R;
+    if (!dir.empty() && set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
+  }
+  if (scene.stretch.enabled) {
+    R.stretch.push_back(stretch_row(R.x, 0.0));
+    if (!dir.empty()) write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
+  }
   int step = 0;
   Eigen::VectorXd& x = R.x;
   Eigen::VectorXd& v = R.v;

@@ -49,6 +49,29 @@ TEST(Scenes, StretchForcePerWidthIsTheMaterialsStressAtTheMiddle) {
   }
 }
 
+// A quasi-static load path starts in equilibrium: with a natural bending moment across the
+// strip (m II_y, a stockinette's curl) the sheet curls at 100 % before it is stretched, as the
+// yarn strip does. Before, the 100 % row and frame were the flat, undeformed mesh.
+TEST(Scenes, StretchStartsFromTheRelaxedStripNotTheFlatMesh) {
+  constexpr double m = 2e-4;  // J/m
+  const MaterialFn curl = [](const Strain6& s) {
+    MaterialEval e = material()(s);
+    e.psi += m * s[5];
+    e.grad[5] += m;
+    return e;
+  };
+  Scene s = builtin_scene("stretch", 6, 'x');
+  s.frames = 1;
+  const SimResult r = run_simulation(s, curl, 0.0, SimSettings{});
+  ASSERT_TRUE(r.finite);
+  ASSERT_TRUE(r.all_converged);
+  ASSERT_EQ(r.stretch.size(), 2u);
+  const StretchRow& rest = r.stretch.front();
+  EXPECT_DOUBLE_EQ(rest.stretch, 1.0);
+  // Curled across (II_y < 0 lowers m II_y), not flat.
+  EXPECT_LT(rest.middle_strain[5], -1.0) << rest.middle_strain.transpose();
+}
+
 TEST(Scenes, FreeFallFollowsImplicitEulerExactly) {
   for (Integrator integ : {Integrator::Newton, Integrator::Linearized}) {
     Scene s;
