@@ -145,7 +145,6 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
                       "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
                       "assemble_ms,solve_ms,line_search_ms\n");
-    if (set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
   }
   // The hinges' dihedral angles on their continuous branch, carried from step to step.
   std::vector<double> hinges = hinge_angles(P.mesh, x0);
@@ -179,9 +178,12 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     const StepStats st0 = static_solve(P, D, pat, solver, R.x, target, nopt, set.profile, &hinges, &previous);
     R.finite = R.finite && st0.finite;
     R.all_converged = R.all_converged && st0.newton.converged;
-    if (!R.finite) return R;
-    if (!dir.empty() && set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
+    if (!R.finite) {
+      if (csv) std::fclose(csv);
+      return R;
+    }
   }
+  if (!dir.empty() && set.write_frames) write_obj(frame_path(dir, 0), P.mesh, unflatten(R.x));
   if (scene.stretch.enabled) {
     R.stretch.push_back(stretch_row(R.x, 0.0));
     if (!dir.empty()) write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
