@@ -1,5 +1,6 @@
 #include "sim/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -78,11 +79,16 @@ Scene hang(int n) {
   return s;
 }
 
-Scene stretch(int n, char dir) {
-  const double L = 0.10, W = 0.05;
+Scene stretch(int n, char dir, const StretchSize& size) {
+  const double L = size.length, W = size.width;
+  if (!(W > 0 && L > 0 && std::isfinite(W) && std::isfinite(L)))
+    throw std::invalid_argument("stretch: the strip's width and length must be positive");
+  if (!(size.last >= 1.0 && size.last <= 10.0) || size.steps < 1)
+    throw std::invalid_argument("stretch: the last stretch must lie in [1, 10] with at least one load step");
   const bool course = dir == 'x';
-  // n quads across the width, 2n along the length.
-  const int nl = 2 * n, nw = n;
+  // n quads across the width (default one per 5 mm: 10 on the paper's 5 cm), square along.
+  if (n <= 0) n = std::max(2, int(std::lround(W / 0.005)));
+  const int nl = std::max(1, int(std::lround(n * L / W))), nw = n;
   Scene s;
   s.name = course ? "stretch-course" : "stretch-wale";
   s.mesh = course ? make_rectangle(L, W, nl, nw) : make_rectangle(W, L, nw, nl);
@@ -94,13 +100,13 @@ Scene stretch(int n, char dir) {
     moving.vertices.push_back(course ? rectangle_vertex(nx, nx, k) : rectangle_vertex(nx, k, ny));
   }
   const Eigen::Vector3d axis = course ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d end = 0.7 * L * axis;
+  const Eigen::Vector3d end = (size.last - 1.0) * L * axis;
   moving.path = {{0.0, 0, 0, 0}, {1.0, end.x(), end.y(), end.z()}};
   s.handles = {fixed, moving};
   s.integrator = Integrator::Static;
-  s.frames = 14;  // load parameter k/14: stretch 100 % + 5 % k
+  s.frames = size.steps;  // load parameter k/steps: stretch 100 % + k (last - 1) / steps
   s.newton.tol_step = 1e-9;
-  s.render_frames = {0, 6, 14};
+  s.render_frames = {0, size.steps * 3 / 7, size.steps};
   s.stretch.enabled = true;
   s.stretch.moving_handle = 1;
   s.stretch.axis = axis;
@@ -112,13 +118,13 @@ Scene stretch(int n, char dir) {
 
 }  // namespace
 
-Scene builtin_scene(const std::string& name, int resolution, char direction) {
+Scene builtin_scene(const std::string& name, int resolution, char direction, const StretchSize& size) {
   if (resolution < 0 || resolution > 2000) throw std::invalid_argument("--resolution must be between 1 and 2000");
   if (name == "drape") return drape(resolution ? resolution : 40);
   if (name == "hang") return hang(resolution ? resolution : 30);
   if (name == "stretch") {
     if (direction != 'x' && direction != 'y') throw std::invalid_argument("stretch direction must be course or wale");
-    return stretch(resolution ? resolution : 10, direction);
+    return stretch(resolution, direction, size);
   }
   throw std::invalid_argument("scene '" + name + "': not a built-in scene (drape, hang, stretch) nor a .json file");
 }

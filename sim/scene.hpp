@@ -58,8 +58,15 @@ struct Scene {
 // stretch: a 5 cm x 10 cm strip, long axis along the course (x) or the wale (y), both short
 //   ends clamped (every vertex of the end fixed in all three coordinates), the far clamp moved
 //   quasi-statically from 100 % to 170 % of the length in 5 % steps (14 load steps), no
-//   gravity.
-Scene builtin_scene(const std::string& name, int resolution = 0, char direction = 'x');
+//   gravity. StretchSize changes the strip's size and its last stretch and load steps (the
+//   strip-width study compares yarn and continuum strips of other sizes); the resolution is
+//   then quads across the width, by default one per 5 mm.
+struct StretchSize {
+  double width = 0.05, length = 0.10;  // metres
+  double last = 1.7;                   // the last stretch ratio (clamp separation / length)
+  int steps = 14;                      // load steps from 100 % to `last`, evenly spaced
+};
+Scene builtin_scene(const std::string& name, int resolution = 0, char direction = 'x', const StretchSize& size = {});
 bool is_builtin_scene(const std::string& name);
 
 // The triangle that contains (or is nearest to) a rest point.

@@ -42,7 +42,4 @@ struct AccuracyResult {
 AccuracyResult run_accuracy(const AccuracyOptions& o);
 std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions& o);
 
-// Stretch ratios from "first:last:step" (inclusive of last up to rounding).
-std::vector<double> parse_stretch_range(const std::string& text);
-
 }  // namespace yarnhom::tools

@@ -41,6 +41,25 @@ inline std::vector<double> parse_numbers(const std::string& text, const std::str
   return v;
 }
 
+// Stretch ratios from "first:last:step" (inclusive of last up to rounding), as `strip`, `sim
+// stretch` and `accuracy` take them.
+inline std::vector<double> parse_stretch_range(const std::string& text) {
+  const size_t a = text.find(':'), b = text.find(':', a == std::string::npos ? a : a + 1);
+  if (a == std::string::npos || b == std::string::npos)
+    throw std::invalid_argument("--stretch " + text + ": expected first:last:step, e.g. 1.0:1.7:0.05");
+  const auto v = parse_numbers(text.substr(0, a) + "," + text.substr(a + 1, b - a - 1) + "," + text.substr(b + 1), "--stretch");
+  if (!(v[2] > 0) || !(v[1] >= v[0]) || !(v[0] > 0) || !std::isfinite(v[1]))
+    throw std::invalid_argument("--stretch " + text + ": need 0 < first <= last and step > 0");
+  std::vector<double> out;
+  for (int k = 0;; ++k) {
+    const double x = v[0] + k * v[2];
+    if (x > v[1] + 1e-9 * v[2]) break;
+    out.push_back(x);
+    if (k > 100000) throw std::invalid_argument("--stretch " + text + ": too many steps");
+  }
+  return out;
+}
+
 inline std::vector<int> parse_ints(const std::string& text, const std::string& what, int max = 1000000) {
   std::vector<int> out;
   for (double x : parse_numbers(text, what)) {

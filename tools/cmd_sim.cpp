@@ -58,6 +58,7 @@ std::string friction_description(const sim::Scene& s) {
 void register_sim(CLI::App& app) {
   struct Opts {
     std::string scene, out, material, integrator, direction = "course", solver = "auto", render, hessian = "split";
+    std::string size, stretch;
     double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
     int friction_updates = -1;
     int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0, blas_threads = 0;
@@ -67,8 +68,8 @@ void register_sim(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sim",
       "Simulate cloth with a baked material (thin shell, spec section 10; docs/sim.md). SCENE is a built-in "
-      "scene -- drape (a 0.5 m sheet falling onto a sphere), hang (a sheet held by two corners), stretch (a 5 cm "
-      "x 10 cm strip clamped at both ends, stretched quasi-statically to 170 %) -- or a scene file (JSON). "
+      "scene -- drape (a 0.5 m sheet falling onto a sphere), hang (a sheet held by two corners), stretch (a strip "
+      "clamped at both ends, 5 cm x 10 cm stretched quasi-statically to 170 % unless --size and --stretch say otherwise) -- or a scene file (JSON). "
       "Writes OUT/frames/frame_NNNN.obj, OUT/steps.csv (Newton iterations, energies, time per step), PNG "
       "renders in OUT/renders/ and, for stretch, OUT/stretch.csv and OUT/stretch.png (force per clamp width "
       "in N/m against stretch). Exit status 3 when the simulation becomes non-finite or a triangle leaves every "
@@ -86,6 +87,14 @@ void register_sim(CLI::App& app) {
       ->check(CLI::Range(1, 2000));
   cmd->add_option("--direction", o->direction, "stretch: the strip's long axis, course (x) or wale (y)")
       ->check(CLI::IsMember({"course", "wale"}));
+  cmd->add_option("--size", o->size,
+                  "stretch: WIDTH,LENGTH of the strip in metres (default 0.05,0.10, the paper's); the default "
+                  "resolution is then one quad per 5 mm across")
+      ->check(non_empty());
+  cmd->add_option("--stretch", o->stretch,
+                  "stretch: load steps as 1.0:LAST:STEP, clamp separation / length (default 1.0:1.7:0.05); the strip "
+                  "is always relaxed at 100 % first. Replaces --frames")
+      ->check(non_empty());
   cmd->add_option("--integrator", o->integrator,
                   "newton (implicit Euler, Newton + line search; default), linearized (ARCSim-HYLC's one-solve "
                   "step), static (load steps to equilibrium; stretch's default)")
@@ -138,8 +147,27 @@ void register_sim(CLI::App& app) {
   cmd->callback([o] {
     using namespace yarnhom::sim;
     const bool file = o->scene.size() > 5 && o->scene.substr(o->scene.size() - 5) == ".json";
+    if ((!o->size.empty() || !o->stretch.empty()) && o->scene != "stretch")
+      throw std::invalid_argument("--size and --stretch apply to the built-in stretch scene only");
+    if (!o->stretch.empty() && o->frames > 0)
+      throw std::invalid_argument("--stretch sets the load steps; give it or --frames, not both");
+    StretchSize size;
+    if (!o->size.empty()) {
+      const std::vector<double> wl = parse_numbers(o->size, "--size");
+      if (wl.size() != 2 || !(wl[0] > 0) || !(wl[1] > 0))
+        throw std::invalid_argument("--size " + o->size + ": expected WIDTH,LENGTH in metres, both positive");
+      size.width = wl[0];
+      size.length = wl[1];
+    }
+    if (!o->stretch.empty()) {
+      const std::vector<double> r = parse_stretch_range(o->stretch);
+      if (std::abs(r.front() - 1.0) > 1e-9 || r.size() < 2)
+        throw std::invalid_argument("--stretch " + o->stretch + ": give 1.0:LAST:STEP with LAST > 1 (the strip starts at 100 %)");
+      size.last = r.back();
+      size.steps = int(r.size()) - 1;
+    }
     Scene s = file ? read_scene_json(o->scene)
-                   : builtin_scene(o->scene, o->resolution, o->direction == "wale" ? 'y' : 'x');
+                   : builtin_scene(o->scene, o->resolution, o->direction == "wale" ? 'y' : 'x', size);
     if (file && o->resolution) throw std::invalid_argument("--resolution applies to the built-in scenes only");
     if (!o->integrator.empty()) s.integrator = parse_integrator(o->integrator);
     if (o->dt > 0) s.dt = o->dt;

@@ -1,5 +1,6 @@
 // yarnhom study table5 | bake-resolution | rve-size: the supplement's accuracy tables as
-// commands (docs/accuracy.md). Each runs the accuracy test (tools/accuracy_run.hpp) for several
+// commands (docs/accuracy.md); strip-width: how the yarn strip's force per width depends on its
+// width, against the continuum strip of the same size. Each runs the accuracy test (tools/accuracy_run.hpp) for several
 // patterns, directions or materials, cached and resumable stage by stage, and writes a Markdown
 // and a CSV table beside the paper's figures.
 //
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <array>
 #include <map>
 #include <memory>
@@ -284,6 +286,104 @@ void register_study_accuracy(CLI::App& app) {
         write_text(dir / "table4.csv", csv);
       }
       std::printf("\n%s\n-> %s/table4.md, table4.csv\n", md.c_str(), o->out.c_str());
+    });
+  }
+  // --- strip-width -----------------------------------------------------------------------
+  {
+    struct Opts {
+      std::string pattern, out, direction = "wale", dataset, baked;
+      std::vector<double> widths = {0.02, 0.04, 0.06, 0.08};
+      double length = 0.04;
+      bool no_plot = false;
+      AccuracyOptions acc;
+    };
+    auto o = std::make_shared<Opts>();
+    o->acc.preset = "paper";
+    o->acc.stretch = "1.0:1.3:0.1";
+    auto* cmd = study->add_subcommand(
+        "strip-width",
+        "Is the gap between a yarn strip and the continuum an edge effect? The accuracy test (see "
+        "`accuracy`) on strips of one length and several widths, each yarn strip against a continuum "
+        "strip of its own size, one neural material for all. A homogenized model describes the bulk, "
+        "so an edge effect shows as a yarn force per width that approaches the continuum's as the "
+        "strip widens. OUT/width.md, width.csv and width.png.");
+    cmd->add_option("PATTERN", o->pattern, "Pattern (.pyp file or built-in name)")->required();
+    cmd->add_option("--direction", o->direction, "Stretch direction")->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
+    cmd->add_option("--widths", o->widths, "Strip widths in metres (comma-separated or repeated)")
+        ->delimiter(',')
+        ->check(finite_positive())
+        ->capture_default_str();
+    cmd->add_option("--length", o->length, "Strip length in metres (along the stretch)")->check(finite_positive())->capture_default_str();
+    cmd->add_option("--dataset", o->dataset, "Reuse this dataset instead of producing one")->check(existing_regular_file());
+    cmd->add_option("--baked", o->baked, "Reuse this baked neural material instead of training and baking")->check(existing_regular_file());
+    cmd->add_option("-o,--output", o->out, "Output folder (created)")->required();
+    cmd->add_flag("--no-plot", o->no_plot, "Write no PNG");
+    add_accuracy_options(cmd, o->acc);
+    cmd->remove_option(cmd->get_option("--size"));
+    cmd->callback([o] {
+      check_output_folder(o->out);
+      const fs::path dir(o->out);
+      fs::create_directories(dir);
+      const std::string name = paper_name(o->pattern);
+      std::vector<double> widths = o->widths;
+      std::sort(widths.begin(), widths.end());
+      std::string md = "# Strip-width study (" + name + ", " + o->direction + ", length " + fmt(100 * o->length, "%g") +
+                       " cm)\n\nClamp force per undeformed width (N/m), yarn strip / continuum strip of the same size, and the "
+                       "mean relative stress error over the stretched tests.\n\n";
+      std::string csv = "width_m,length_m,stretch,N_yarn,N_neural,dN\n";
+      std::string header, rule;
+      for (double w : widths) {
+        char sz[64];
+        std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o->length);
+        char label[32];
+        std::snprintf(label, sizeof label, "w_%.4g", w);
+        std::printf("\n== width %s m\n", fmt(w, "%g").c_str());
+        AccuracyOptions a = o->acc;
+        a.pattern = o->pattern;
+        a.direction = o->direction;
+        a.size = sz;
+        a.dataset = o->dataset;
+        a.baked = o->baked;
+        a.materials_dir = dir.string();  // one dataset and one material for every width
+        a.out = (dir / label).string();
+        a.spline = false;
+        const AccuracyResult r = run_accuracy(a);
+        const MaterialResult& m = r.materials[0];
+        if (header.empty()) {
+          header = "| width (cm) |";
+          rule = "|---|";
+          for (double s : r.stretch) {
+            header += " " + fmt(100 * s, "%.0f") + " % |";
+            rule += "---|";
+          }
+          md += header + " mean rel. err. (%) |\n" + rule + "---|\n";
+        }
+        md += "| " + fmt(100 * w, "%g") + " |";
+        for (size_t k = 0; k < r.stretch.size(); ++k) {
+          md += " " + fmt(r.n_yarn[k]) + " / " + (k < m.steps.size() ? fmt(m.steps[k].n_cont) : std::string("-")) + " |";
+          if (k < m.steps.size())
+            csv += fmt(w, "%.6g") + "," + fmt(o->length, "%.6g") + "," + fmt(r.stretch[k], "%.6g") + "," + fmt(r.n_yarn[k], "%.6g") + "," +
+                   fmt(m.steps[k].n_cont, "%.6g") + "," + fmt(m.steps[k].stress_diff, "%.6g") + "\n";
+        }
+        md += " " + fmt(100 * m.summary.mean_rel_error) + " |\n";
+        // Written after every width, so an interrupted study keeps what it has.
+        write_text(dir / "width.md", md);
+        write_text(dir / "width.csv", csv);
+      }
+      std::printf("\n%s\n-> %s/width.md, width.csv\n", md.c_str(), o->out.c_str());
+      if (o->no_plot) return;
+      const std::string py = find_python("matplotlib");
+      const std::string png = (dir / "width.png").string();
+      if (py.empty()) {
+        std::printf("  (no python3 with matplotlib: no %s)\n", png.c_str());
+        return;
+      }
+      const std::vector<std::string> argv = {py, plot_script("plot_study.py"), "strip-width", (dir / "width.csv").string(), png,
+                                             name + ", " + o->direction + ", length " + fmt(100 * o->length, "%g") + " cm"};
+      if (run_child(argv, "/dev/null", "") != 0)
+        std::printf("  (drawing %s failed; the numbers are in width.csv)\n", png.c_str());
+      else
+        std::printf("wrote %s\n", png.c_str());
     });
   }
   // --- rve-size --------------------------------------------------------------------------

@@ -49,6 +49,39 @@ TEST(Scenes, StretchForcePerWidthIsTheMaterialsStressAtTheMiddle) {
   }
 }
 
+// The strip-width study runs the stretch scene at other sizes. A flat strip of a homogeneous
+// material scaled uniformly (same aspect ratio, same quads) has the same strains everywhere,
+// so the same force per width: a size that leaked into the load path or the width of the
+// report would break this. And the default is still the paper's 5 cm x 10 cm, 10 x 20 quads.
+TEST(Scenes, StretchAtAnotherSizeCarriesTheSameForcePerWidthWhenScaled) {
+  const Scene paper = builtin_scene("stretch", 0, 'y');
+  EXPECT_EQ(paper.mesh.num_vertices(), 11 * 21);
+  EXPECT_EQ(paper.frames, 14);
+  EXPECT_NEAR(paper.mesh.rest.col(0).maxCoeff(), 0.05, 1e-12);
+  EXPECT_NEAR(paper.mesh.rest.col(1).maxCoeff(), 0.10, 1e-12);
+
+  StretchSize big{0.05, 0.10, 1.3, 3}, small{0.02, 0.04, 1.3, 3};
+  const Scene a = builtin_scene("stretch", 5, 'y', big), b = builtin_scene("stretch", 5, 'y', small);
+  EXPECT_EQ(b.frames, 3);
+  EXPECT_EQ(b.mesh.num_vertices(), a.mesh.num_vertices());
+  EXPECT_NEAR(b.mesh.rest.col(0).maxCoeff(), 0.02, 1e-12);
+  EXPECT_NEAR(b.mesh.rest.col(1).maxCoeff(), 0.04, 1e-12);
+  // Default resolution: one quad per 5 mm across (4 on 2 cm), square quads along.
+  EXPECT_EQ(builtin_scene("stretch", 0, 'x', small).mesh.num_vertices(), (4 + 1) * (8 + 1));
+  const SimResult ra = run_simulation(a, material(), 0.0, SimSettings{});
+  const SimResult rb = run_simulation(b, material(), 0.0, SimSettings{});
+  ASSERT_TRUE(ra.all_converged && rb.all_converged);
+  ASSERT_EQ(rb.stretch.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_NEAR(rb.stretch[k].stretch, 1.0 + 0.1 * k, 1e-12);
+    EXPECT_NEAR(rb.stretch[k].force_per_width, ra.stretch[k].force_per_width, 1e-6 * std::abs(ra.stretch[3].force_per_width))
+        << "stretch " << rb.stretch[k].stretch;
+  }
+  EXPECT_GT(rb.stretch[3].force_per_width, 0.0);
+  EXPECT_THROW(builtin_scene("stretch", 0, 'y', StretchSize{-0.02, 0.04, 1.3, 3}), std::invalid_argument);
+  EXPECT_THROW(builtin_scene("stretch", 0, 'y', StretchSize{0.02, 0.04, 1.3, 0}), std::invalid_argument);
+}
+
 // A quasi-static load path starts in equilibrium: with a natural bending moment across the
 // strip (m II_y, a stockinette's curl) the sheet curls at 100 % before it is stretched, as the
 // yarn strip does. Before, the 100 % row and frame were the flat, undeformed mesh.

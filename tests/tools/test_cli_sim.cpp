@@ -131,6 +131,25 @@ TEST(CliSim, StretchReportsForcePerClampWidthAsCsvAndPng) {
   ASSERT_EQ(objs.size(), 8u);
   EXPECT_EQ(objs.front(), "frame_0000.obj");
   EXPECT_EQ(objs.back(), "frame_0007.obj");
+  // Another size and load range (what `accuracy --size/--stretch` and the strip-width study
+  // pass): the rows are the given ratios, the width of the report the given width.
+  r = run("sim stretch -o " + d + "/sized --material " + d + "/mat.json --size 0.02,0.04 --stretch 1.0:1.2:0.1 --render none -q");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const auto sized = read_csv(d + "/sized/stretch.csv");
+  ASSERT_EQ(sized.size(), 3u);
+  for (size_t k = 0; k < sized.size(); ++k) {
+    EXPECT_NEAR(sized[k][0], 1 + 0.1 * k, 1e-9);
+    EXPECT_NEAR(sized[k][2], sized[k][1] / 0.02, 1e-7 * std::abs(sized[k][1] / 0.02) + 1e-12);  // N/m = N / width
+  }
+  EXPECT_TRUE(fs::exists(d + "/sized/frames/frame_0002.obj"));
+  EXPECT_FALSE(fs::exists(d + "/sized/frames/frame_0003.obj"));
+  for (const char* bad : {"--stretch 1.0:1.2:0.1 --frames 3", "--stretch 1.1:1.3:0.1", "--size 0.02", "--size 0.02,-0.04"}) {
+    auto e = run("sim stretch -o " + d + "/bad --material " + d + "/mat.json --render none -q " + bad);
+    EXPECT_NE(e.status, 0) << bad;
+  }
+  auto e = run("sim drape -o " + d + "/bad2 --material " + d + "/mat.json --size 0.02,0.04 -q");
+  EXPECT_NE(e.status, 0);
+  EXPECT_NE(e.out.find("--size and --stretch apply to the built-in stretch scene only"), std::string::npos) << e.out;
   fs::remove_all(d);
 }
 

@@ -3,6 +3,7 @@
 the program; this script only draws them).
 
     plot_study.py architectures CSV PNG TITLE
+    plot_study.py strip-width CSV PNG TITLE
 """
 import csv
 import sys
@@ -43,7 +44,38 @@ def architectures(csv_path, png_path, title):
     fig.savefig(png_path, dpi=120)
 
 
+def strip_width(csv_path, png_path, title):
+    """Force per undeformed width against the strip's width, one colour per stretch ratio:
+    yarn-level strips solid, continuum strips dashed. A homogenized model describes the bulk,
+    so the two should meet as the strip widens if the gap is an edge effect."""
+    rows = list(csv.DictReader(open(csv_path)))
+    stretches = sorted({r["stretch"] for r in rows}, key=float)
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for i, s in enumerate(stretches):
+        if float(s) == 1.0:
+            continue
+        sub = sorted((r for r in rows if r["stretch"] == s), key=lambda r: float(r["width_m"]))
+        w = [100 * float(r["width_m"]) for r in sub]
+        c = f"C{i % 10}"
+        ax[0].plot(w, [float(r["N_yarn"]) for r in sub], "o-", color=c, label=f"{100 * float(s):.0f} % yarn")
+        ax[0].plot(w, [float(r["N_neural"]) for r in sub], "s--", color=c, mfc="none",
+                   label=f"{100 * float(s):.0f} % continuum")
+        ax[1].plot(w, [100 * float(r["N_yarn"]) / float(r["N_neural"]) for r in sub], "o-", color=c,
+                   label=f"{100 * float(s):.0f} %")
+    ax[0].set_xlabel("strip width (cm)")
+    ax[0].set_ylabel("clamp force per undeformed width (N/m)")
+    ax[0].legend(fontsize=7, ncol=2)
+    ax[1].axhline(100, color="k", lw=0.8)
+    ax[1].set_xlabel("strip width (cm)")
+    ax[1].set_ylabel("yarn / continuum (%)")
+    ax[1].legend(fontsize=8)
+    fig.suptitle(f"Strip-width study: {title}")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=120)
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 5 or sys.argv[1] != "architectures":
-        sys.exit("usage: plot_study.py architectures CSV PNG TITLE")
-    architectures(sys.argv[2], sys.argv[3], sys.argv[4])
+    plots = {"architectures": architectures, "strip-width": strip_width}
+    if len(sys.argv) != 5 or sys.argv[1] not in plots:
+        sys.exit("usage: plot_study.py architectures|strip-width CSV PNG TITLE")
+    plots[sys.argv[1]](sys.argv[2], sys.argv[3], sys.argv[4])
