@@ -124,9 +124,15 @@ BakedModel bake_model(const Model& model, const std::string& model_path, int res
   for (size_t k = 0; k < b.tables.size(); ++k) {
     BakedTable& t = b.tables[k];
     if (t.dim() != 2) continue;
-    const CornerTwistRepair r =
-        repair_corner_twists(t, find_one_d(one_d, t.term.indices[0]), find_one_d(one_d, t.term.indices[1]));
-    if (reports) (*reports)[k].corners = r;
+    const BakedTerm* ti = find_one_d(one_d, t.term.indices[0]);
+    const BakedTerm* tj = find_one_d(one_d, t.term.indices[1]);
+    const CornerTwistRepair r = repair_corner_twists(t, ti, tj);
+    // After the corners: the edge repair keeps their twists and lifts the corner knots' slopes.
+    const EdgeSlopeRepair es = repair_edge_slopes(t, ti, tj);
+    if (reports) {
+      (*reports)[k].corners = r;
+      (*reports)[k].edges = es;
+    }
   }
   if (reports) {
     const std::vector<PairCheck> pairs = check_pairs(b);
@@ -185,6 +191,7 @@ std::string BakeReport::summary(const BakedTable& t) const {
     }
   }
   if (corners.any()) add(corners.summary());
+  if (edges.any()) add(edges.summary());
   const std::string pair_note = pair.summary();
   if (!pair_note.empty()) add("REPORT: " + pair_note);
   return out.empty() ? "the paper's continuation" : out;

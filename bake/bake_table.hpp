@@ -3,8 +3,10 @@
 // derivatives, 1D (f, f') for cubic Hermite, 2D (f, f_x, f_y, f_xy) for bicubic Hermite; the
 // 1D end repair where a 1D term's end slope points inward or curves down
 // (bake/boundary_repair.hpp); for a whole model, the corner twist repair of a 2D table's four
-// corner knots where the total would bend down beyond a corner (bake/corner_twist.hpp; no other
-// 2D knot is ever changed); the safeguard coefficients implied by those knots
+// corner knots where the total would bend down beyond a corner (bake/corner_twist.hpp) and the
+// edge slope repair of its boundary knots' outward derivatives where the total falls outward
+// at the box (bake/edge_slope_repair.hpp; no interior 2D knot is ever changed, nor any knot
+// value); the safeguard coefficients implied by those knots
 // (bake/baked_eval.hpp); and, per term pair, what the total energy does at the box
 // (bake/pair_check.hpp).
 #include <array>
@@ -13,6 +15,7 @@
 
 #include "bake/boundary_repair.hpp"
 #include "bake/corner_twist.hpp"
+#include "bake/edge_slope_repair.hpp"
 #include "bake/pair_check.hpp"
 #include "bake/term_function.hpp"
 #include "core/baked.hpp"
@@ -31,6 +34,7 @@ struct BakeReport {
   BoundaryRepair repair;
   std::array<std::string, 2> floor_pair;  // 1D: the pair whose falling total set an end's curvature floor
   CornerTwistRepair corners;  // 2D, from bake_model
+  EdgeSlopeRepair edges;      // 2D, from bake_model
   SafeguardDepartures departures;
   PairCheck pair;
   // One line in words: "the paper's continuation" or where and by how much it departed.
@@ -40,7 +44,7 @@ struct BakeReport {
 // Bakes any function over the box with `knots` knots per axis (>= 2). Provenance fields of the
 // result are left default. repair = false keeps a 1D table's knots exactly the function's (its
 // continuation then only as safe as the function's ends: for tests of interpolation); a 2D
-// table's knots are the function's (only bake_model's corner twist repair changes them).
+// table's knots are the function's (only bake_model's corner twist and edge slope repairs change them).
 // min_curvature: a 1D table's outward end curvature floors (lower, upper; null: 0).
 BakedTable bake_function(const Term& term, const std::vector<double>& lower,
                          const std::vector<double>& upper, const std::vector<int>& knots,
@@ -58,11 +62,12 @@ BakedTable bake_network(const ModelNetwork& net, int res1d, int res2d, BakeRepor
 // below (the energy dips by at most |S| x that distance / 2).
 inline constexpr double kSlopeRecoveryFraction = 0.5;
 
-// Bakes every network of a model as one material, in three steps: every table; the 1D tables
+// Bakes every network of a model as one material, in four steps: every table; the 1D tables
 // again with the curvature floors their pairs need (kSlopeRecoveryFraction, only at ends that a
 // pair's box shares); the corner twists of every 2D table against the final 1D tables
-// (bake/corner_twist.hpp). Beyond the box the total in every pair plane then rises along every
-// outward ray once past that distance, and is bounded below. psi0 is Psi(0) if known.
+// (bake/corner_twist.hpp); then its edge slopes (bake/edge_slope_repair.hpp). Beyond the box
+// the total in every pair plane then never decreases along any outward ray from the boundary
+// on, and is bounded below. psi0 is Psi(0) if known.
 BakedModel bake_model(const Model& model, const std::string& model_path, int res1d, int res2d,
                       double psi0, bool psi0_known, std::vector<BakeReport>* reports = nullptr);
 

@@ -312,13 +312,14 @@ TEST(Safeguard, TwoDimensionalTablesAreTheNetworkUpToTheBoundary) {
 // decreases, and never turns negative where it starts non-negative. Corners the pair check
 // reports (T^2 > K_I K_J with a negative twist) are skipped, and the report is checked to be
 // true: along its worst direction the slope does fall. Then the three networks are baked as one
-// material (bake_model: the 1D curvature floors and the corner twist repair, docs/bake.md): no
-// corner is reported any more, the same 1,000 rays are walked with none skipped, where the total
-// falls outward at an edge its slope is >= 0 at kSlopeRecoveryFraction of the box width out, and
-// far out (1000x the box) every corner's worst diagonal rises.
+// material (bake_model: the 1D curvature floors, the corner twist repair and the edge slope
+// repair, docs/bake.md): no corner is reported any more, the same 1,000 rays are walked with
+// none skipped and none starting to fall, the total's outward slope is >= 0 on every edge of
+// the box itself, and far out (1000x the box) every corner's worst diagonal rises.
 TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
   unsigned seed = 400;
-  int start_falling = 0, corner_rays = 0, skipped = 0, reported_corners = 0, reported_edges = 0, repaired = 0, floors = 0;
+  int start_falling = 0, corner_rays = 0, skipped = 0, reported_corners = 0, reported_edges = 0, repaired = 0, floors = 0,
+      edges_repaired = 0;
   for (const PairCase& c : kPairCases)
     for (int k = 0; k < 3; ++k, seed += 3) {
       BakedTable table2 = bake_network(test::random_model_network(c.pair, c.lo, c.hi, seed), 200, 40);
@@ -395,14 +396,18 @@ TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
         S = (j.g[0] + a.df) * vx + (j.g[1] + b.df) * vy;
         return j.f + a.f + b.f;
       };
-      // Where the total falls outward at an edge, it has turned up within the recovery distance.
+      // The literal criterion: no ray starts falling, and the total's outward slope is >= 0 on
+      // the boundary itself (the edge slope repair), so along every edge ray it is >= 0 from the
+      // boundary on.
+      EXPECT_EQ(rr.start_falling, 0) << what;
+      for (int e = 0; e < 4; ++e) edges_repaired += reps[0].edges.knots_raised[e] > 0;
       for (int e = 0; e < 4; ++e) {
         const int axis = e / 2, along = 1 - axis;
-        const double sg = e % 2 ? 1 : -1, W = (axis ? rj.hi[0] - rj.lo[0] : ri.hi[0] - ri.lo[0]);
-        for (int m = 0; m <= 40; ++m) {
+        const double sg = e % 2 ? 1 : -1;
+        for (int m = 0; m <= 400; ++m) {
           double p[2], v[2] = {0, 0}, S;
-          p[axis] = (sg > 0 ? r2.hi[axis] : r2.lo[axis]) + sg * kSlopeRecoveryFraction * W;
-          p[along] = r2.lo[along] + (r2.hi[along] - r2.lo[along]) * m / 40;
+          p[axis] = sg > 0 ? r2.hi[axis] : r2.lo[axis];
+          p[along] = r2.lo[along] + (r2.hi[along] - r2.lo[along]) * m / 400;
           v[axis] = sg;
           total(p[0], p[1], v[0], v[1], S);
           EXPECT_GE(S, -1e-9 * rc.slope_scale) << what << " edge " << e << " point " << m;
@@ -428,9 +433,10 @@ TEST(Safeguard, TotalEnergyRisesOutwardInEveryPairPlane) {
   EXPECT_GT(reported_corners, 0);
   EXPECT_GT(repaired, 0);
   EXPECT_GT(floors, 0);
+  EXPECT_GT(edges_repaired, 0);
   std::printf("pair planes: %d rays started falling (reported), %d corner rays walked, %d skipped at %d reported corners; "
-              "as one material: %d corners repaired, %d 1D end curvatures raised\n", start_falling, corner_rays - skipped,
-              skipped, reported_corners, repaired, floors);
+              "as one material: %d corners repaired, %d 1D end curvatures raised, %d edges' slopes raised\n", start_falling,
+              corner_rays - skipped, skipped, reported_corners, repaired, floors, edges_repaired);
 }
 
 // (b) The full strain space (s_x, s_a, s_y, II_x, II_y; II_a = 0, where bending is B_3[g] =
