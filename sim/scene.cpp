@@ -93,11 +93,18 @@ Scene stretch(int n, char dir, const StretchSize& size) {
   s.name = course ? "stretch-course" : "stretch-wale";
   s.mesh = course ? make_rectangle(L, W, nl, nw) : make_rectangle(W, L, nw, nl);
   s.gravity.setZero();
+  if (!(size.clamp >= 0 && size.clamp < L / 2))
+    throw std::invalid_argument("stretch: the clamp band must lie in [0, length / 2)");
+  // The clamps hold every vertex within the band of either end (the end rows at least), as the
+  // yarn strip's do: with the end rows only, the continuum's free length would be L, the yarn's
+  // L - 2 b, and the same clamp stretch would strain the yarn strip L / (L - 2 b) times more.
   Handle fixed, moving;
-  const int nx = course ? nl : nw, ny = course ? nw : nl;
-  for (int k = 0; k <= (course ? ny : nx); ++k) {
-    fixed.vertices.push_back(course ? rectangle_vertex(nx, 0, k) : rectangle_vertex(nx, k, 0));
-    moving.vertices.push_back(course ? rectangle_vertex(nx, nx, k) : rectangle_vertex(nx, k, ny));
+  const int along = course ? 0 : 1;
+  const double band = size.clamp + 1e-9 * L;
+  for (int v = 0; v < s.mesh.num_vertices(); ++v) {
+    const double a = s.mesh.rest(v, along);
+    if (a <= band) fixed.vertices.push_back(v);
+    else if (a >= L - band) moving.vertices.push_back(v);
   }
   const Eigen::Vector3d axis = course ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d end = (size.last - 1.0) * L * axis;

@@ -56,7 +56,8 @@ struct Scene {
 // hang: a 0.5 m square sheet held horizontally by two adjacent corners, released; it swings
 //   down and hangs; 90 frames of 1/30 s.
 // stretch: a 5 cm x 10 cm strip, long axis along the course (x) or the wale (y), both short
-//   ends clamped (every vertex of the end fixed in all three coordinates), the far clamp moved
+//   ends clamped (every vertex within 5 mm of the end fixed in all three coordinates, the yarn
+//   strip's clamp band), the far clamp moved
 //   quasi-statically from 100 % to 170 % of the length in 5 % steps (14 load steps), no
 //   gravity. StretchSize changes the strip's size and its last stretch and load steps (the
 //   strip-width study compares yarn and continuum strips of other sizes); the resolution is
@@ -65,6 +66,10 @@ struct StretchSize {
   double width = 0.05, length = 0.10;  // metres
   double last = 1.7;                   // the last stretch ratio (clamp separation / length)
   int steps = 14;                      // load steps from 100 % to `last`, evenly spaced
+  // Clamp band at each short end, metres: every vertex within it is held, as `yarnhom strip`
+  // holds every yarn vertex within its --clamp of the ends (docs/strip.md section 3); 0: the
+  // end row only.
+  double clamp = 0.005;
 };
 Scene builtin_scene(const std::string& name, int resolution = 0, char direction = 'x', const StretchSize& size = {});
 bool is_builtin_scene(const std::string& name);

@@ -117,14 +117,21 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     const StageOutcome out = run_stage(strip_dir.parent_path(), {"strip-" + strip_dir.filename().string(), a, pattern_in, {strip_force}}, o.force);
     if (out.ran) r.stage_seconds.emplace_back("strip", out.seconds);
   }
-  // sim stretch: a continuum strip of the yarn strip's size, stretched through the same ratios.
+  // sim stretch: a continuum strip of the yarn strip's size and clamp bands (its settings.txt
+  // says which band it used), stretched through the same ratios.
+  std::string clamp = "0.005";
+  {
+    std::ifstream st(strip_dir / "settings.txt");
+    for (std::string line; std::getline(st, line);)
+      if (line.rfind("clamp = ", 0) == 0) clamp = line.substr(8);
+  }
   const std::vector<double> ratios = parse_stretch_range(o.stretch);
   if (ratios.size() < 2 || std::abs(ratios.front() - 1.0) > 1e-9)
     throw std::invalid_argument("--stretch " + o.stretch + ": the test starts at the relaxed 100 %; give 1.0:LAST:STEP");
   for (MaterialResult& m : r.materials) {
     const fs::path sd = dir / ("sim_" + m.name);
     std::vector<std::string> a = {"sim", "stretch", "-o", sd.string(), "--material", m.baked, "--direction", o.direction,
-                                  "--size", o.size, "--stretch", o.stretch, "-q"};
+                                  "--size", o.size, "--stretch", o.stretch, "--clamp", clamp, "-q"};
     for (const auto& x : split_spaces(o.sim_args)) a.push_back(x);
     // The neural material is what is tested: its failure fails the command. The baseline's is a
     // result (HYLC-style linear extrapolation can fall outward and run away): recorded, and its

@@ -59,6 +59,7 @@ void register_sim(CLI::App& app) {
   struct Opts {
     std::string scene, out, material, integrator, direction = "course", solver = "auto", render, hessian = "split";
     std::string size, stretch;
+    double clamp = -1;
     double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
     int friction_updates = -1;
     int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0, blas_threads = 0;
@@ -95,6 +96,10 @@ void register_sim(CLI::App& app) {
                   "stretch: load steps as 1.0:LAST:STEP, clamp separation / length (default 1.0:1.7:0.05); the strip "
                   "is always relaxed at 100 % first. Replaces --frames")
       ->check(non_empty());
+  cmd->add_option("--clamp", o->clamp,
+                  "stretch: clamp band at each short end in metres, every vertex within it held (default 0.005, "
+                  "as yarnhom strip's --clamp; 0: the end rows only)")
+      ->check(finite_non_negative());
   cmd->add_option("--integrator", o->integrator,
                   "newton (implicit Euler, Newton + line search; default), linearized (ARCSim-HYLC's one-solve "
                   "step), static (load steps to equilibrium; stretch's default)")
@@ -147,8 +152,8 @@ void register_sim(CLI::App& app) {
   cmd->callback([o] {
     using namespace yarnhom::sim;
     const bool file = o->scene.size() > 5 && o->scene.substr(o->scene.size() - 5) == ".json";
-    if ((!o->size.empty() || !o->stretch.empty()) && o->scene != "stretch")
-      throw std::invalid_argument("--size and --stretch apply to the built-in stretch scene only");
+    if ((!o->size.empty() || !o->stretch.empty() || o->clamp >= 0) && o->scene != "stretch")
+      throw std::invalid_argument("--size, --stretch and --clamp apply to the built-in stretch scene only");
     if (!o->stretch.empty() && o->frames > 0)
       throw std::invalid_argument("--stretch sets the load steps; give it or --frames, not both");
     StretchSize size;
@@ -166,6 +171,7 @@ void register_sim(CLI::App& app) {
       size.last = r.back();
       size.steps = int(r.size()) - 1;
     }
+    if (o->clamp >= 0) size.clamp = o->clamp;
     Scene s = file ? read_scene_json(o->scene)
                    : builtin_scene(o->scene, o->resolution, o->direction == "wale" ? 'y' : 'x', size);
     if (file && o->resolution) throw std::invalid_argument("--resolution applies to the built-in scenes only");

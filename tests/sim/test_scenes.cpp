@@ -60,7 +60,7 @@ TEST(Scenes, StretchAtAnotherSizeCarriesTheSameForcePerWidthWhenScaled) {
   EXPECT_NEAR(paper.mesh.rest.col(0).maxCoeff(), 0.05, 1e-12);
   EXPECT_NEAR(paper.mesh.rest.col(1).maxCoeff(), 0.10, 1e-12);
 
-  StretchSize big{0.05, 0.10, 1.3, 3}, small{0.02, 0.04, 1.3, 3};
+  StretchSize big{0.05, 0.10, 1.3, 3, 0.01}, small{0.02, 0.04, 1.3, 3, 0.004};  // bands scaled too
   const Scene a = builtin_scene("stretch", 5, 'y', big), b = builtin_scene("stretch", 5, 'y', small);
   EXPECT_EQ(b.frames, 3);
   EXPECT_EQ(b.mesh.num_vertices(), a.mesh.num_vertices());
@@ -68,6 +68,9 @@ TEST(Scenes, StretchAtAnotherSizeCarriesTheSameForcePerWidthWhenScaled) {
   EXPECT_NEAR(b.mesh.rest.col(1).maxCoeff(), 0.04, 1e-12);
   // Default resolution: one quad per 5 mm across (4 on 2 cm), square quads along.
   EXPECT_EQ(builtin_scene("stretch", 0, 'x', small).mesh.num_vertices(), (4 + 1) * (8 + 1));
+  // The bands hold two vertex rows at each end (10 mm of 10 mm quads; 4 mm of 4 mm).
+  EXPECT_EQ(a.handles[0].vertices.size(), size_t(2 * 6));
+  EXPECT_EQ(b.handles[1].vertices.size(), size_t(2 * 6));
   const SimResult ra = run_simulation(a, material(), 0.0, SimSettings{});
   const SimResult rb = run_simulation(b, material(), 0.0, SimSettings{});
   ASSERT_TRUE(ra.all_converged && rb.all_converged);
@@ -80,6 +83,24 @@ TEST(Scenes, StretchAtAnotherSizeCarriesTheSameForcePerWidthWhenScaled) {
   EXPECT_GT(rb.stretch[3].force_per_width, 0.0);
   EXPECT_THROW(builtin_scene("stretch", 0, 'y', StretchSize{-0.02, 0.04, 1.3, 3}), std::invalid_argument);
   EXPECT_THROW(builtin_scene("stretch", 0, 'y', StretchSize{0.02, 0.04, 1.3, 0}), std::invalid_argument);
+}
+
+// The continuum clamps the yarn strip's bands (every vertex within b of an end): its free length
+// is L - 2b, so the same clamp stretch strains its middle about L / (L - 2b) times more than
+// clamping the end rows only (1.25 with 10 mm bands on 10 cm).
+TEST(Scenes, StretchClampBandsShortenTheFreeLengthAsTheYarnStripsDo) {
+  StretchSize rows{0.05, 0.10, 1.1, 1, 0.0}, bands{0.05, 0.10, 1.1, 1, 0.01};
+  const Scene a = builtin_scene("stretch", 0, 'y', rows), b = builtin_scene("stretch", 0, 'y', bands);
+  EXPECT_EQ(a.handles[0].vertices.size(), 11u);
+  EXPECT_EQ(b.handles[0].vertices.size(), 33u);  // three rows of 5 mm quads
+  EXPECT_EQ(b.handles[1].vertices.size(), 33u);
+  const SimResult ra = run_simulation(a, material(), 0.0, SimSettings{});
+  const SimResult rb = run_simulation(b, material(), 0.0, SimSettings{});
+  ASSERT_TRUE(ra.all_converged && rb.all_converged);
+  const double ea = ra.stretch.back().middle_strain[2], eb = rb.stretch.back().middle_strain[2];
+  EXPECT_NEAR(ea, 0.1, 0.01);
+  EXPECT_NEAR(eb / ea, 1.25, 0.05) << ea << " " << eb;
+  EXPECT_GT(rb.stretch.back().force_per_width, ra.stretch.back().force_per_width);
 }
 
 // A quasi-static load path starts in equilibrium: with a natural bending moment across the

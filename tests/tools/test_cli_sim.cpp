@@ -149,7 +149,7 @@ TEST(CliSim, StretchReportsForcePerClampWidthAsCsvAndPng) {
   }
   auto e = run("sim drape -o " + d + "/bad2 --material " + d + "/mat.json --size 0.02,0.04 -q");
   EXPECT_NE(e.status, 0);
-  EXPECT_NE(e.out.find("--size and --stretch apply to the built-in stretch scene only"), std::string::npos) << e.out;
+  EXPECT_NE(e.out.find("--size, --stretch and --clamp apply to the built-in stretch scene only"), std::string::npos) << e.out;
   fs::remove_all(d);
 }
 
