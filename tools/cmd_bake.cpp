@@ -7,6 +7,7 @@
 
 #include "bake/bake_accuracy.hpp"
 #include "bake/bake_table.hpp"
+#include "bake/rest_check.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -110,6 +111,13 @@ void register_bake(CLI::App& app) {
       if (net.status != "ok") note = "NETWORK NOT TRAINED (" + net.status + "); " + note;
       std::printf("%-5s %-10s %-21s %-14s %s\n", t.term.name.c_str(), knots.c_str(), dev.c_str(), gdev.c_str(),
                   note.c_str());
+    }
+    {
+      // The rest: stress free and stable? (bake/rest_check.hpp)
+      std::string missing;
+      const BakedMaterial mat = make_baked_material(baked, o->out, &missing);
+      const RestCheck rc = check_rest(mat);
+      std::printf("%s%s\n", rc.summary().c_str(), missing.empty() ? "" : (" (terms absent: " + missing + ")").c_str());
     }
     std::printf("baked %zu terms (1D %d knots, 2D %dx%d) in %.2fs -> %s%s\n", baked.tables.size(), o->res1d, o->res2d,
                 o->res2d, bake_s, o->out.c_str(), known ? "" : " (Psi0 unknown)");

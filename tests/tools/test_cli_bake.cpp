@@ -48,6 +48,10 @@ TEST(CliBake, BakedFileReproducesTheModelAndErrorReportsIt) {
   ASSERT_EQ(run("train-all " + d + "/d.h5 -o " + d + "/m.h5 --epochs 20 --terms 0,02 -q").status, 0);
   auto r = run("bake " + d + "/m.h5 -o " + d + "/b.h5");
   ASSERT_EQ(r.status, 0) << r.out;
+  // The rest check is printed, naming the terms the model lacks (bake/rest_check.hpp).
+  EXPECT_NE(r.out.find("\nrest: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("in-plane stress at rest"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("terms absent:"), std::string::npos) << r.out;
   // Inside the box the bicubic table agrees with the network to the interpolation error.
   auto m = run("eval " + d + "/m.h5 --term 02 --at 0.33,0.41");
   auto b = run("eval " + d + "/b.h5 --term 02 --at 0.33,0.41");

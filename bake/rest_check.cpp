@@ -1,0 +1,56 @@
+#include "bake/rest_check.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace yarnhom {
+
+namespace {
+const char* kStrainNames[6] = {"s_x", "s_a", "s_y", "II_x", "II_a", "II_y"};
+}
+
+std::string RestCheck::summary() const {
+  char buf[512];
+  std::string out;
+  if (stable) {
+    std::snprintf(buf, sizeof buf, "rest: stable (d2Psi/ds2 at s = 0 positive definite, smallest scaled eigenvalue %.3g)",
+                  scaled_eigenvalues[0]);
+    out = buf;
+  } else {
+    // Name the strains that dominate the weakest direction (in scaled strains, so that units
+    // do not decide).
+    std::string dir;
+    const double m = weakest.cwiseAbs().maxCoeff();
+    for (int i = 0; i < 6; ++i)
+      if (std::abs(weakest[i]) >= 0.3 * m) dir += (dir.empty() ? "" : ", ") + std::string(kStrainNames[i]);
+    std::snprintf(buf, sizeof buf,
+                  "rest: UNSTABLE: d2Psi/ds2 at s = 0 has a negative direction (scaled eigenvalue %.3g, mostly %s); "
+                  "diagonal",
+                  scaled_eigenvalues[0], dir.c_str());
+    out = buf;
+    for (int i = 0; i < 6; ++i) {
+      std::snprintf(buf, sizeof buf, " %s %.3g", kStrainNames[i], hess(i, i));
+      out += buf;
+    }
+    out += ". A cloth of this material leaves its rest by itself: the networks are wrong near s = 0 (docs/accuracy.md)";
+  }
+  std::snprintf(buf, sizeof buf, "; in-plane stress at rest %.3g %.3g %.3g N/m", grad[0], grad[1], grad[2]);
+  return out + buf;
+}
+
+RestCheck check_rest(const BakedMaterial& mat, double tolerance) {
+  RestCheck r;
+  const MaterialEval e = eval_material(mat, Strain6::Zero());
+  r.grad = e.grad;
+  r.hess = 0.5 * (e.hess + e.hess.transpose());
+  Strain6 d;
+  for (int i = 0; i < 6; ++i) d[i] = std::abs(r.hess(i, i)) > 0 ? 1 / std::sqrt(std::abs(r.hess(i, i))) : 1.0;
+  const Eigen::Matrix<double, 6, 6> scaled = d.asDiagonal() * r.hess * d.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(scaled);
+  r.scaled_eigenvalues = es.eigenvalues();
+  r.weakest = es.eigenvectors().col(0);
+  r.stable = r.scaled_eigenvalues[0] >= -tolerance;
+  return r;
+}
+
+}  // namespace yarnhom
