@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "bake/pipeline_stage.hpp"
+#include "bake/rest_check.hpp"
 #include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "tools/child_process.hpp"
@@ -197,6 +198,13 @@ void register_pipeline(CLI::App& app) {
                                    : "every term fits its validation data within the limits");
     std::printf("  quadratic expansion error E (Eq. 4) = %s J/m^2 (measures smoothness, not fit); worst bake "
                 "deviation %.2e of a term's range\n", E.c_str(), worst);
+    {
+      // Is the material's rest stress free and stable? (bake/rest_check.hpp; the fit limits
+      // above are relative to whole ranges and do not see the small strains near rest.)
+      std::string missing;
+      const BakedMaterial mat = make_baked_material(read_baked(baked), baked, &missing);
+      std::printf("  %s\n", check_rest(mat).summary().c_str());
+    }
     for (const auto& [name, secs] : times) std::printf("  %s: %s\n", name.c_str(), format_seconds(secs).c_str());
     std::printf("  total %s\n", format_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_all).count()).c_str());
     std::printf("  metrics: %s\n", errors.c_str());

@@ -77,6 +77,8 @@ TEST(CliBake, PipelineRunsOnceAndSkipsFinishedStages) {
   ASSERT_EQ(r.status, 0) << r.out;
   for (const char* f : {"dataset.h5", "model.h5", "baked.h5", "errors.txt"})
     EXPECT_TRUE(fs::exists(d + "/run/" + f)) << f;
+  // The report says whether the material's rest is stable and stress free.
+  EXPECT_NE(r.out.find("\n  rest: "), std::string::npos) << r.out;
   const auto t = fs::last_write_time(d + "/run/model.h5");
   r = run("pipeline synthetic -o " + d + "/run --epochs 3 --recipe paper --no-plot");
   ASSERT_EQ(r.status, 0) << r.out;
