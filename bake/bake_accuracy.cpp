@@ -42,4 +42,17 @@ BakeDeviation bake_deviation(const TermFunction& reference, const TermFunction& 
   return r;
 }
 
+void max_table_change(const BakedTerm& before, const BakedTerm& after, const double lo[2], const double hi[2], int n0,
+                      int n1, double& max_value, double& max_gradient) {
+  for (int a = 0; a <= n0; ++a)
+    for (int b = 0; b <= n1; ++b) {
+      const double s[2] = {lo[0] + (hi[0] - lo[0]) * a / n0, lo[1] + (hi[1] - lo[1]) * b / n1};
+      double p[3], q[3];
+      eval_baked_jet(before, s, 1, p);
+      eval_baked_jet(after, s, 1, q);
+      max_value = std::max(max_value, std::abs(q[0] - p[0]));
+      max_gradient = std::max(max_gradient, std::hypot(q[1] - p[1], q[2] - p[2]));
+    }
+}
+
 }  // namespace yarnhom

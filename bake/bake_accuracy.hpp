@@ -5,6 +5,7 @@
 // knots (at any resolution up to the grid's), so that the interpolation error is seen.
 #include <vector>
 
+#include "bake/baked_eval.hpp"
 #include "bake/term_function.hpp"
 
 namespace yarnhom {
@@ -19,5 +20,11 @@ struct BakeDeviation {
 // grid: points per axis (1D default 2003, 2D 203 x 203).
 BakeDeviation bake_deviation(const TermFunction& reference, const TermFunction& baked, int d,
                              const std::vector<double>& lower, const std::vector<double>& upper, int grid = 0);
+
+// Where a repair changed a 2D table: the largest |change| of its value and of its gradient
+// (physical units) between `before` and `after` on the (n0 + 1) x (n1 + 1) grid of the rectangle
+// [lo0, hi0] x [lo1, hi1], raised into max_value and max_gradient (left as they are if larger).
+void max_table_change(const BakedTerm& before, const BakedTerm& after, const double lo[2], const double hi[2], int n0,
+                      int n1, double& max_value, double& max_gradient);
 
 }  // namespace yarnhom

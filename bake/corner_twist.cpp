@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bake/bake_accuracy.hpp"
 #include "bake/pair_check.hpp"
 
 namespace yarnhom {
@@ -50,16 +51,9 @@ CornerTwistRepair repair_corner_twists(BakedTable& t2, const BakedTerm* ti, cons
   for (int c = 0; c < 4; ++c) {
     if (!r.repaired[c]) continue;
     const double hx = t2.spacing(0), hy = t2.spacing(1);
-    const double x0 = c & 1 ? t2.upper[0] - hx : t2.lower[0], y0 = c & 2 ? t2.upper[1] - hy : t2.lower[1];
-    for (int a = 0; a <= 8; ++a)
-      for (int b = 0; b <= 8; ++b) {
-        const double s[2] = {x0 + hx * a / 8, y0 + hy * b / 8};
-        double p[3], q[3];
-        eval_baked_jet(before, s, 1, p);
-        eval_baked_jet(after, s, 1, q);
-        r.max_change = std::max(r.max_change, std::abs(q[0] - p[0]));
-        r.max_grad_change = std::max(r.max_grad_change, std::hypot(q[1] - p[1], q[2] - p[2]));
-      }
+    const double lo[2] = {c & 1 ? t2.upper[0] - hx : t2.lower[0], c & 2 ? t2.upper[1] - hy : t2.lower[1]};
+    const double hi[2] = {lo[0] + hx, lo[1] + hy};
+    max_table_change(before, after, lo, hi, 8, 8, r.max_change, r.max_grad_change);
   }
   return r;
 }

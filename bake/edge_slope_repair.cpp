@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bake/bake_accuracy.hpp"
+
 namespace yarnhom {
 
 std::string EdgeSlopeRepair::summary() const {
@@ -104,19 +106,16 @@ EdgeSlopeRepair repair_edge_slopes(BakedTable& t2, const BakedTerm* ti, const Ba
     if (!r.knots_raised[e] && !r.cross_zeroed[e]) continue;
     const int axis = e / 2, along = 1 - axis;
     const double w = t2.spacing(axis);
-    const double x0 = e % 2 ? t2.upper[axis] - w : t2.lower[axis];
-    const int samples = 24 * (n[along] - 1);  // 24 per cell: the Hermite extremes at 1/3 and 2/3 included
-    for (int a = 0; a <= 24; ++a)
-      for (int b = 0; b <= samples; ++b) {
-        double s[2];
-        s[axis] = x0 + w * a / 24;
-        s[along] = t2.lower[along] + (t2.upper[along] - t2.lower[along]) * b / samples;
-        double p[3], q[3];
-        eval_baked_jet(before, s, 1, p);
-        eval_baked_jet(after, s, 1, q);
-        r.max_change = std::max(r.max_change, std::abs(q[0] - p[0]));
-        r.max_grad_change = std::max(r.max_grad_change, std::hypot(q[1] - p[1], q[2] - p[2]));
-      }
+    // 24 points per cell: the Hermite extremes at 1/3 and 2/3 included.
+    double lo[2], hi[2];
+    lo[axis] = e % 2 ? t2.upper[axis] - w : t2.lower[axis];
+    hi[axis] = lo[axis] + w;
+    lo[along] = t2.lower[along];
+    hi[along] = t2.upper[along];
+    int grid[2];
+    grid[axis] = 24;
+    grid[along] = 24 * (n[along] - 1);
+    max_table_change(before, after, lo, hi, grid[0], grid[1], r.max_change, r.max_grad_change);
   }
   return r;
 }

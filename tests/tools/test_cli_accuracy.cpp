@@ -23,19 +23,29 @@ std::string tmpdir(const char* name) {
   return d.string();
 }
 
-// The numeric rows of eval's CSV output.
+// The numeric rows of a CSV text after its header (eval's output, accuracy.csv, width.csv):
+// empty cells (a baseline that stopped) are NaN; blank and '#' lines are skipped.
 std::vector<std::vector<double>> rows(const std::string& csv) {
   std::istringstream in(csv);
   std::string line, cell;
   std::getline(in, line);
   std::vector<std::vector<double>> out;
   while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
     std::vector<double> v;
     std::stringstream ls(line);
-    while (std::getline(ls, cell, ',')) v.push_back(std::stod(cell));
+    while (std::getline(ls, cell, ',')) v.push_back(cell.empty() ? NAN : std::stod(cell));
+    if (line.back() == ',') v.push_back(NAN);
     out.push_back(v);
   }
   return out;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 }  // namespace
@@ -87,19 +97,7 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
                         "accuracy.csv", "accuracy.md"})
     EXPECT_TRUE(fs::exists(d + "/acc/" + f)) << f;
   // accuracy.csv: a header and 15 rows, stretch 1.00 .. 1.70.
-  std::ifstream in(d + "/acc/accuracy.csv");
-  std::string line;
-  std::vector<std::vector<double>> v;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<double> row;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) row.push_back(cell.empty() ? NAN : std::stod(cell));
-    if (!line.empty() && line.back() == ',') row.push_back(NAN);
-    v.push_back(row);
-  }
+  const std::vector<std::vector<double>> v = rows(slurp(d + "/acc/accuracy.csv"));
   ASSERT_EQ(v.size(), 15u);
   EXPECT_NEAR(v.front()[0], 1.0, 1e-9);
   EXPECT_NEAR(v.back()[0], 1.7, 1e-9);
@@ -146,26 +144,18 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   auto w = yarnhom::test::run_cli(sw);
   ASSERT_EQ(w.status, 0) << w.out;
   EXPECT_TRUE(fs::exists(d + "/sw/width.md"));
-  std::ifstream wc(d + "/sw/width.csv");
-  std::getline(wc, line);
-  EXPECT_EQ(line, "width_m,length_m,stretch,N_yarn,N_neural,dN");
-  std::vector<std::vector<double>> rows;
-  while (std::getline(wc, line)) {
-    std::vector<double> row;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
-  ASSERT_EQ(rows.size(), 4u);  // widths sorted: 0.0035 (100 %, 110 %), then 0.005
+  const std::string width_csv = slurp(d + "/sw/width.csv");
+  EXPECT_EQ(width_csv.substr(0, width_csv.find('\n')), "width_m,length_m,stretch,N_yarn,N_neural,dN");
+  const std::vector<std::vector<double>> wr = rows(width_csv);
+  ASSERT_EQ(wr.size(), 4u);  // widths sorted: 0.0035 (100 %, 110 %), then 0.005
   const double want[4][3] = {{0.0035, 0.0027, 1.0}, {0.0035, 0.0027, 1.1}, {0.005, 0.0027, 1.0}, {0.005, 0.0027, 1.1}};
   for (size_t k = 0; k < 4; ++k) {
-    ASSERT_EQ(rows[k].size(), 6u);
-    for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(rows[k][c], want[k][c], 1e-9) << k;
-    EXPECT_NEAR(rows[k][5], std::abs(rows[k][3] - rows[k][4]), 2e-5 * (1 + std::abs(rows[k][5])));  // %.6g
+    ASSERT_EQ(wr[k].size(), 6u);
+    for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(wr[k][c], want[k][c], 1e-9) << k;
+    EXPECT_NEAR(wr[k][5], std::abs(wr[k][3] - wr[k][4]), 2e-5 * (1 + std::abs(wr[k][5])));  // %.6g
   }
-  EXPECT_NEAR(rows[0][3], v[0][1], 1e-5 * (1 + std::abs(v[0][1]))) << "the same relaxed yarn strip";
-  EXPECT_NEAR(rows[0][4], v[0][2], 1e-5 * (1 + std::abs(v[0][2]))) << "the same relaxed continuum strip";
-  EXPECT_NE(rows[2][3], rows[0][3]) << "a wider yarn strip is another strip";
+  EXPECT_NEAR(wr[0][3], v[0][1], 1e-5 * (1 + std::abs(v[0][1]))) << "the same relaxed yarn strip";
+  EXPECT_NEAR(wr[0][4], v[0][2], 1e-5 * (1 + std::abs(v[0][2]))) << "the same relaxed continuum strip";
+  EXPECT_NE(wr[2][3], wr[0][3]) << "a wider yarn strip is another strip";
   fs::remove_all(d);
 }
