@@ -112,7 +112,8 @@ LossValues mlp_loss_grad(const NetworkDesc& desc, const T* params, const LossBat
       mlp_jet_forward<T>(desc, params, x, n, order, ws.jet[w].data(), ws.jw[w]);
       if (g) ws.djet[w].assign(size_t(C) * n, T(0));
       sums[t] = data_losses<T>(d, n, order, ws.jet[w].data(), batch.y + begin,
-                               batch.g + size_t(begin) * d, opt.w, !stencil, inv_m,
+                               batch.g + size_t(begin) * d, batch.wt ? batch.wt + begin : nullptr,
+                               opt.w, !stencil, inv_m,
                                g ? ws.djet[w].data() : nullptr);
       if (g) mlp_jet_backward<T>(desc, params, x, n, order, ws.djet[w].data(), g, ws.jw[w]);
       if (stencil)

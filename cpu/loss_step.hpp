@@ -22,6 +22,8 @@ struct LossBatch {
   int k = 0;                  // off-domain points
   const T* xo = nullptr;      // [k, d]
   const T* no = nullptr;      // [k, d] outward normals
+  const T* wt = nullptr;      // [m] per-point weights of L_Z and L_F, or nullptr (all 1): the
+                              // polish's relative fit (train/polish.hpp); the CPU loss only
 };
 
 struct LossOptions {

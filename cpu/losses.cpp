@@ -5,23 +5,24 @@
 namespace yarnhom::cpu {
 
 template <class T>
-LossSums<T> data_losses(int d, int B, int order, const T* jet, const T* y, const T* g,
+LossSums<T> data_losses(int d, int B, int order, const T* jet, const T* y, const T* g, const T* wt,
                         const LossWeights& w, bool exact_c, T scale, T* djet) {
   LossSums<T> sum;
   const T wz = T(w.z) * scale, wf = T(w.f) * scale, wc = T(w.c) * scale, wx = T(w.x) * scale;
   auto ch = [&](int c, int p) { return jet[size_t(c) * B + p]; };
   auto adj = [&](int c, int p) -> T& { return djet[size_t(c) * B + p]; };
   for (int p = 0; p < B; ++p) {
+    const T k = wt ? wt[p] : T(1);  // the point's weight on its L_Z and L_F residuals
     if (w.z != 0) {
       const T r = ch(0, p) - y[p];
-      sum.z += r * r;
-      if (djet) adj(0, p) += wz * T(2) * r;
+      sum.z += k * r * r;
+      if (djet) adj(0, p) += wz * T(2) * k * r;
     }
     if (w.f != 0) {
       for (int i = 0; i < d; ++i) {
         const T r = ch(1 + i, p) - g[p * d + i];
-        sum.f += r * r;
-        if (djet) adj(1 + i, p) += wf * T(2) * r;
+        sum.f += k * r * r;
+        if (djet) adj(1 + i, p) += wf * T(2) * k * r;
       }
     }
     if (w.c != 0 && exact_c && order >= 3) {
@@ -71,9 +72,9 @@ T strain_concentration_loss(int d, int K, int order, const T* jet, const T* norm
   return sum;
 }
 
-template LossSums<float> data_losses<float>(int, int, int, const float*, const float*,
+template LossSums<float> data_losses<float>(int, int, int, const float*, const float*, const float*,
                                             const float*, const LossWeights&, bool, float, float*);
-template LossSums<double> data_losses<double>(int, int, int, const double*, const double*,
+template LossSums<double> data_losses<double>(int, int, int, const double*, const double*, const double*,
                                               const double*, const LossWeights&, bool, double,
                                               double*);
 template float strain_concentration_loss<float>(int, int, int, const float*, const float*, float,

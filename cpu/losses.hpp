@@ -22,11 +22,12 @@ struct LossSums {
 };
 
 // jet: [C, B] channel-major output jet of B data points, order >= 1 (>= 2 for L_X, 3 for
-// exact L_C). y: [B], g: [B, d]. djet: [C, B] adjoint (accumulated), or nullptr.
+// exact L_C). y: [B], g: [B, d]. wt: [B] weights of each point's L_Z and L_F residuals, or
+// nullptr (all 1). djet: [C, B] adjoint (accumulated), or nullptr.
 // scale multiplies the adjoint (1/M). Terms with zero weight are neither summed nor derived;
 // with exact_c false, L_C is left to the stencil (cpu/loss_stencil.hpp).
 template <class T>
-LossSums<T> data_losses(int d, int B, int order, const T* jet, const T* y, const T* g,
+LossSums<T> data_losses(int d, int B, int order, const T* jet, const T* y, const T* g, const T* wt,
                         const LossWeights& w, bool exact_c, T scale, T* djet);
 
 // Strain concentration on K off-domain points. jet: [C, K] with order >= 1, normals: [K, d].

@@ -328,8 +328,9 @@ __global__ void reduce_blocks_kernel(const float* partial, int blocks, int P, fl
 
 // Per-point loss terms: 4 values per point (z, f, c, x) for data, 1 (s) for off-domain.
 template <int D>
-__global__ void data_loss_kernel(int B, int order, const float* jet, const float* y, const float* g, LossCfg cfg,
-                                 int exact_c, float scale, float* djet, float* terms) {
+__global__ void data_loss_kernel(int B, int order, const float* jet, const float* y, const float* g,
+                                 const float* wt, LossCfg cfg, int exact_c, float scale, float* djet,
+                                 float* terms) {
   const int p = blockIdx.x * blockDim.x + threadIdx.x;
   if (p >= B) return;
   const int C = jet_channels(D, order);
@@ -337,16 +338,17 @@ __global__ void data_loss_kernel(int B, int order, const float* jet, const float
               wx = float(cfg.wx) * scale;
   auto ch = [&](int c) { return jet[size_t(c) * B + p]; };
   float lz = 0, lf = 0, lc = 0, lx = 0;
+  const float k = wt ? wt[p] : 1.f;  // the point's weight on its L_Z and L_F residuals
   if (cfg.wz != 0) {
     const float r = ch(0) - y[p];
-    lz = r * r;
-    if (djet) djet[p] += wz * 2.f * r;
+    lz = k * r * r;
+    if (djet) djet[p] += wz * 2.f * k * r;
   }
   if (cfg.wf != 0)
     for (int i = 0; i < D; ++i) {
       const float r = ch(1 + i) - g[p * D + i];
-      lf += r * r;
-      if (djet) djet[size_t(1 + i) * B + p] += wf * 2.f * r;
+      lf += k * r * r;
+      if (djet) djet[size_t(1 + i) * B + p] += wf * 2.f * k * r;
     }
   if (cfg.wc != 0 && exact_c && order >= 3)
     for (int t = 0; t < jet_num_triples(D); ++t) {
@@ -555,7 +557,8 @@ void mlp_jet_backward(const NetworkDesc& desc, const float* params, const float*
 }
 
 cpu::LossSums<float> data_losses(int d, int B, int order, const float* jet, const float* y, const float* g,
-                                 const LossWeights& w, bool exact_c, float scale, float* djet) {
+                                 const float* wt, const LossWeights& w, bool exact_c, float scale,
+                                 float* djet) {
   cpu::LossSums<float> sum;
   if (B <= 0) return sum;
   DeviceVec<float> terms(size_t(B) * 4);
@@ -564,9 +567,9 @@ cpu::LossSums<float> data_losses(int d, int B, int order, const float* jet, cons
   const LossCfg cfg = make_cfg(o, order);
   const int T = 128, G = (B + T - 1) / T;
   if (d == 1)
-    data_loss_kernel<1><<<G, T>>>(B, order, jet, y, g, cfg, exact_c, scale, djet, terms.data());
+    data_loss_kernel<1><<<G, T>>>(B, order, jet, y, g, wt, cfg, exact_c, scale, djet, terms.data());
   else
-    data_loss_kernel<2><<<G, T>>>(B, order, jet, y, g, cfg, exact_c, scale, djet, terms.data());
+    data_loss_kernel<2><<<G, T>>>(B, order, jet, y, g, wt, cfg, exact_c, scale, djet, terms.data());
   check(cudaGetLastError(), "launch of the data loss kernel");
   const std::vector<float> h = terms.download();
   for (int p = 0; p < B; ++p) {
@@ -617,6 +620,8 @@ struct Prepared {
 Prepared prepare(const NetworkDesc& desc, const cpu::LossBatch<float>& batch, const cpu::LossOptions& opt) {
   if (opt.stencil_c && opt.w.c != 0)
     throw std::invalid_argument("the CUDA backend computes L_C exactly; the stencil option is CPU-only");
+  if (batch.wt)
+    throw std::invalid_argument("the fused CUDA loss has no per-point weights (the full-batch polish that uses them runs on the CPU)");
   Prepared q;
   q.s = make_shape(desc);
   q.order = cpu::data_jet_order(opt);

@@ -99,8 +99,8 @@ void mlp_jet_backward(const NetworkDesc& desc, const float* params, const float*
 // Twins of cpu::data_losses and cpu::strain_concentration_loss: one thread per point on the
 // device; the per-point terms are summed in point order (as on the CPU).
 cpu::LossSums<float> data_losses(int d, int B, int order, const float* jet, const float* y,
-                                 const float* g, const LossWeights& w, bool exact_c, float scale,
-                                 float* djet);
+                                 const float* g, const float* wt, const LossWeights& w, bool exact_c,
+                                 float scale, float* djet);
 float strain_concentration_loss(int d, int K, int order, const float* jet, const float* normals,
                                 float weight_scale, float* djet);
 

@@ -57,12 +57,16 @@ std::vector<std::string> step_objs(const fs::path& folder, size_t n, bool at_lea
   return files;
 }
 
-// stretch and tension (N/m) columns of a force curve.
+// stretch and tension (N/m) columns of a force curve. A yarn strip's force is taken per its load
+// width (the width of fabric its rows stand for, yarn::Strip::load_width) where force.csv has it;
+// strips written before it was recorded give the force per nominal width.
 void read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
-  const CsvColumns t =
-      read_csv_columns(path, {"stretch", "ratio", "lambda", "tension_N_per_m", "force_per_width_N_per_m"});
+  const std::vector<std::string> names = {"tension_load_N_per_m", "tension_N_per_m", "force_per_width_N_per_m"};
+  std::vector<std::string> only = {"stretch", "ratio", "lambda"};
+  only.insert(only.end(), names.begin(), names.end());
+  const CsvColumns t = read_csv_columns(path, only);
   stretch = csv_column(t, {"stretch", "ratio", "lambda"}, path);
-  tension = csv_column(t, {"tension_N_per_m", "force_per_width_N_per_m"}, path);
+  tension = csv_column(t, names, path);
 }
 
 }  // namespace
@@ -101,11 +105,11 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     mstage({"train-all", a, {ds}, {model}});
     mstage({"bake", {"bake", model, "-o", neural, "--data", ds}, {model, ds}, {neural}});
   }
-  r.materials.push_back({"neural", neural, {}, {}});
+  r.materials.push_back({"neural", neural, {}, {}, {}});
   if (o.spline) {
     const std::string spline = (mdir / "spline.h5").string();
     mstage({"fit-splines", {"fit-splines", ds, "-o", spline}, {ds}, {spline}});
-    r.materials.push_back({"spline", spline, {}, {}});
+    r.materials.push_back({"spline", spline, {}, {}, {}});
   }
   const fs::path strip_dir = o.strip_dir.empty() ? dir / "strip" : fs::path(o.strip_dir);
   const std::string strip_force = (strip_dir / "force.csv").string();

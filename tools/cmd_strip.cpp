@@ -6,8 +6,9 @@
 // DIR/strip.obj      the generated strip's centrelines (OBJ polylines, m)
 // DIR/steps/step_KKK.h5        the equilibrium of load step K (what a resumed run continues from)
 // DIR/centrelines/step_KKK.obj its centrelines
-// DIR/force.csv      per load step: stretch, force per width (N/m), both clamps' forces, energy
-//                    and its parts, iterations, times, closest pair, topology certificate
+// DIR/force.csv      per load step: stretch, force per nominal width (N/m), both clamps' forces,
+//                    energy and its parts, iterations, times, closest pair, topology certificate,
+//                    and last the force per load width (yarn::Strip::load_width; what accuracy uses)
 // DIR/strip.png, deformed.png, force.png (when a python3 with matplotlib is found)
 #include <omp.h>
 
@@ -99,15 +100,16 @@ std::string step_name(int k) {
   return buf;
 }
 
-std::string csv_line(int k, const yarn::StretchStep& r) {
+// load_width: the strip's (yarn::Strip::load_width), for the last column.
+std::string csv_line(int k, const yarn::StretchStep& r, double load_width) {
   char buf[640];
   std::snprintf(buf, sizeof buf,
-                "%d,%.9g,%.10g,%.10g,%.10g,%.10g,%.3e,%.12g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.3e,%.3f,%.3f,%.3f,%.4f,%d,%d,%s\n",
+                "%d,%.9g,%.10g,%.10g,%.10g,%.10g,%.3e,%.12g,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%.3e,%.3f,%.3f,%.3f,%.4f,%d,%d,%s,%.10g\n",
                 k, r.stretch, r.tension, r.force, r.force_low, r.force_high,
                 r.force != 0 ? (r.force_low + r.force_high) / std::abs(r.force) : 0.0, r.energy, r.parts.stretch,
                 r.parts.bend, r.parts.twist, r.parts.contact, r.parts.barrier, r.solve.iterations, r.solve.residual,
                 r.solve.seconds, r.solve.assembly_seconds, r.solve.factor_seconds, r.min_distance,
-                r.certificate.valid ? 1 : 0, r.certificate.moves, yarn::to_string(r.solve.status));
+                r.certificate.valid ? 1 : 0, r.certificate.moves, yarn::to_string(r.solve.status), r.force / load_width);
   return buf;
 }
 
@@ -207,9 +209,10 @@ void run(const StripOpts& o) {
   int nconn = 0, nclamped = 0;
   for (auto c : strip.connector_edge) nconn += c;
   for (auto c : clamp) nclamped += c != 0;
-  std::printf("strip       %s: %.4g x %.4g m (%s), %d x %d tiles, relaxed lattice (%.5g, 0), (%.5g, %.5g) m\n",
+  std::printf("strip       %s: %.4g x %.4g m (%s), %d x %d tiles, relaxed lattice (%.5g, 0), (%.5g, %.5g) m; "
+              "load width %.5g m (the rows along the long axis)\n",
               strip.name.c_str(), strip.width, strip.length, o.direction.c_str(), strip.tiles_x, strip.tiles_y,
-              tile.lattice(0, 0), tile.lattice(0, 1), tile.lattice(1, 1));
+              tile.lattice(0, 0), tile.lattice(0, 1), tile.lattice(1, 1), strip.load_width);
   std::printf("yarn        %d vertices (%d rows + %d bind-off rows, %d connectors, %d of %d edges boundary yarn at "
               "%.4g of the moduli), %d clamped, %d unknowns\n",
               strip.size(), strip.rows, strip.boundary_rows, strip.connectors, nconn, strip.num_edges(),
@@ -233,8 +236,8 @@ void run(const StripOpts& o) {
     std::string csv =
         "step,stretch,tension_N_per_m,force_N,force_low_N,force_high_N,balance,energy_J,stretch_J,bend_J,twist_J,"
         "contact_J,barrier_J,iterations,residual,seconds,assembly_seconds,factor_seconds,min_distance,certified,"
-        "checked_moves,status\n";
-    for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j]);
+        "checked_moves,status,tension_load_N_per_m\n";
+    for (size_t j = 0; j < done.size(); ++j) csv += csv_line(int(j), done[j], strip.load_width);
     write_text(dir / "force.csv", csv);
   };
   for (size_t k = 0; k < stretches.size(); ++k) {

@@ -26,7 +26,8 @@ struct TrainOpts {
   double stencil_eps = 1e-2;
   int batch1 = 4, batch2 = 128, off = 50;
   int polish = 4000;
-  double polish_wc = 0, polish_ws = 0;
+  double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
+  bool polish_float = false;
   bool polish_keep_last = false;
 };
 
@@ -52,8 +53,8 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("--recipe", o.recipe,
                   "'default': the paper's 500 Adam epochs (lr 1e-3, batch 4 (1D) / 128 (2D), plateau "
                   "schedule, losses L_Z L_F L_C L_S), then a full-batch L-BFGS polish of up to --polish "
-                  "iterations on the data losses L_Z + w_F L_F, ending on the iterate with the lowest "
-                  "validation data loss (docs/training.md, \"The default recipe\"). 'paper': the paper's "
+                  "iterations on the data losses L_Z + w_F L_F (in double, the 1D terms weighted for a "
+                  "relative fit: --relative-fit), ending on the iterate with the lowest validation data loss (docs/training.md, \"The default recipe\"). 'paper': the paper's "
                   "recipe exactly (no polish). 'improved': lr 3e-3 and 2D batch 32, no polish (the "
                   "earlier improvement). --lr, --batch-2d and --polish override the recipe's values")
       ->check(CLI::IsMember({"default", "paper", "improved"}))
@@ -101,6 +102,19 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
                   "makes the energy rise outside the box by construction, and L_S fights the data where "
                   "a term's own outward slope is negative")
       ->capture_default_str();
+  cmd->add_option("--relative-fit", o.relative,
+                  "F: the polish weights each point of a 1D term by 1 + 1 / (|g|^2 / G^2 + F^2), G the "
+                  "term's RMS gradient: where the stress is small (near rest) the fit is relative to it, "
+                  "down to F times the typical one; where it is large the fit stays absolute (the "
+                  "default recipe: 0.1; 0: unweighted; docs/training.md, \"Relative fit\")")
+      ->check(finite_non_negative())
+      ->capture_default_str();
+  cmd->add_option("--relative-fit-2d", o.relative_2d, "The same for the 2D terms (0: unweighted)")
+      ->check(finite_non_negative())
+      ->capture_default_str();
+  cmd->add_flag("--polish-float", o.polish_float,
+                "Compute the 1D terms' polish in float instead of double (faster, but L-BFGS stops "
+                "early on rounding once the fit is good; the 2D terms' polish is in float anyway)");
   cmd->add_flag("--polish-keep-last", o.polish_keep_last,
                 "End the polish on its last iterate, not the one with the lowest validation data loss");
   cmd->add_flag("-q,--quiet", o.quiet, "No live progress, only the final table");
@@ -155,6 +169,9 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   if (given("--polish-w-c")) opt.polish.w_c = o.polish_wc;
   if (given("--polish-w-s")) opt.polish.w_s = o.polish_ws;
   if (given("--polish-keep-last")) opt.polish.keep_best = false;
+  if (given("--relative-fit")) opt.polish.relative_floor[0] = o.relative;
+  if (given("--relative-fit-2d")) opt.polish.relative_floor[1] = o.relative_2d;
+  if (given("--polish-float")) opt.polish.in_double[0] = opt.polish.in_double[1] = false;
   o.epochs = opt.config.epochs;
   o.polish = opt.polish.iterations;
   prepare_output(o.out, {o.dataset});

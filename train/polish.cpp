@@ -47,8 +47,46 @@ void offdomain_grid(int d, int layers, std::vector<float>& x, std::vector<float>
 
 }  // namespace
 
-PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const PolishOptions& opt,
-                            std::vector<float>& params) {
+RelativeFitScale relative_fit_scale(const std::vector<float>& g_train, int d, double floor) {
+  RelativeFitScale sc;
+  const size_t n = g_train.size() / size_t(d);
+  if (n == 0) return sc;
+  double g2 = 0;
+  for (float v : g_train) g2 += double(v) * v;
+  sc.g2 = g2 / double(n);
+  if (!(sc.g2 > 0)) sc.g2 = 1;  // a flat term: every weight is the same
+  sc.norm = 1;
+  const std::vector<float> w = relative_fit_weights(g_train, d, floor, sc);
+  double mean = 0;
+  for (float v : w) mean += v;
+  mean /= double(n);
+  sc.norm = 1.0 / mean;
+  return sc;
+}
+
+std::vector<float> relative_fit_weights(const std::vector<float>& g, int d, double floor,
+                                        const RelativeFitScale& sc) {
+  const size_t n = g.size() / size_t(d);
+  std::vector<float> w(n);
+  for (size_t p = 0; p < n; ++p) {
+    double a = 0;
+    for (int i = 0; i < d; ++i) a += double(g[p * d + i]) * g[p * d + i];
+    w[p] = float(sc.norm * (1.0 + 1.0 / (a / sc.g2 + floor * floor)));
+  }
+  return w;
+}
+
+namespace {
+
+template <class T>
+std::vector<T> as(const std::vector<float>& v) {
+  return std::vector<T>(v.begin(), v.end());
+}
+
+// The polish computing its losses in T (float or double; the L-BFGS state is double either way).
+template <class T>
+PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const PolishOptions& opt,
+                       std::vector<float>& params) {
   cpu::flush_denormals();
   const double t0 = omp_get_wtime();
   PolishResult res;
@@ -56,14 +94,26 @@ PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const
   std::vector<float> xo, no;
   if ((opt.w_s >= 0 ? opt.w_s : cfg.loss.w.s) != 0 && opt.off_domain_layers > 0) offdomain_grid(d, opt.off_domain_layers, xo, no);
   const int K = int(xo.size()) / d;
-  const cpu::LossBatch<float> train{job.n_train, job.x_train.data(), job.y_train.data(), job.g_train.data(),
-                                    K, xo.data(), no.data()};
-  const cpu::LossBatch<float> val{job.n_val, job.x_val.data(), job.y_val.data(), job.g_val.data(),
-                                  int(job.xo_val.size()) / d, job.xo_val.data(), job.no_val.data()};
-  cpu::LossWorkspace<float> ws;
-  std::vector<float> pf(P), gf(P);
+  std::vector<float> wt_train, wt_val;
+  const double floor = opt.relative_floor[d == 1 ? 0 : 1];
+  if (floor > 0) {
+    const RelativeFitScale sc = relative_fit_scale(job.g_train, d, floor);
+    wt_train = relative_fit_weights(job.g_train, d, floor, sc);
+    wt_val = relative_fit_weights(job.g_val, d, floor, sc);
+  }
+  // The data in T (copies when T is double).
+  const std::vector<T> xt = as<T>(job.x_train), yt = as<T>(job.y_train), gt = as<T>(job.g_train),
+                       xv = as<T>(job.x_val), yv = as<T>(job.y_val), gv = as<T>(job.g_val), xot = as<T>(xo),
+                       not_ = as<T>(no), xov = as<T>(job.xo_val), nov = as<T>(job.no_val),
+                       wtt = as<T>(wt_train), wtv = as<T>(wt_val);
+  auto ptr = [](const std::vector<T>& v) { return v.empty() ? nullptr : v.data(); };
+  const cpu::LossBatch<T> train{job.n_train, xt.data(), yt.data(), gt.data(), K, xot.data(), not_.data(), ptr(wtt)};
+  const cpu::LossBatch<T> val{job.n_val, xv.data(), yv.data(), gv.data(), int(xov.size()) / d, xov.data(),
+                              nov.data(), ptr(wtv)};
+  cpu::LossWorkspace<T> ws;
+  std::vector<T> pf(P), gf(P);
   auto to_float = [&](const Eigen::VectorXd& x) {
-    for (int i = 0; i < P; ++i) pf[i] = float(x[i]);
+    for (int i = 0; i < P; ++i) pf[i] = T(x[i]);
   };
   // The loss of the polish: the epochs' loss, with L_C's weight replaced if asked.
   cpu::LossOptions loss = cfg.loss;
@@ -72,19 +122,19 @@ PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const
   // Which iterate to keep is judged by the data terms on the validation points: the fit
   // the model is for. (The validation L_S, at other off-domain points than the polish's,
   // would reward iterates that fit worse; see off_domain_layers.)
-  auto val_loss = [&](const std::vector<float>& p) {
-    const cpu::LossValues v = cpu::mlp_loss_grad<float>(job.desc, p.data(), val, loss, nullptr, ws, 1);
+  auto val_loss = [&](const std::vector<T>& p) {
+    const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, p.data(), val, loss, nullptr, ws, 1);
     return loss.w.z * v.z + loss.w.f * v.f;
   };
   const LbfgsObjective fg = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
     to_float(x);
-    const cpu::LossValues v = cpu::mlp_loss_grad<float>(job.desc, pf.data(), train, loss, gf.data(), ws, 1);
+    const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, pf.data(), train, loss, gf.data(), ws, 1);
     for (int i = 0; i < P; ++i) g[i] = gf[i];
     return v.total;
   };
 
-  res.val_start = res.val_end = val_loss(params);
-  std::vector<float> best = params;
+  std::vector<T> best = as<T>(params);
+  res.val_start = res.val_end = val_loss(best);
   double best_val = res.val_start;
   const LbfgsObserver observe = [&](int k, const Eigen::VectorXd& x, double f) {
     to_float(x);
@@ -108,11 +158,18 @@ PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const
   res.evaluations = r.evaluations;
   res.train_start = r.f0;
   res.stop = r.stop;
-  params = best;
+  params.assign(best.begin(), best.end());
   res.val_end = best_val;
   res.train_end = res.best_iteration > 0 ? res.train_loss[res.best_iteration - 1] : r.f0;
   res.seconds = omp_get_wtime() - t0;
   return res;
+}
+
+}  // namespace
+
+PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const PolishOptions& opt,
+                            std::vector<float>& params) {
+  return opt.in_double[job.desc.input_dim == 1 ? 0 : 1] ? polish_in<double>(job, cfg, opt, params) : polish_in<float>(job, cfg, opt, params);
 }
 
 }  // namespace yarnhom

@@ -58,6 +58,13 @@ struct Strip {
   // they belong to (pieces of outside rows poking into the strip: too short to carry load).
   int tiles_x = 0, tiles_y = 0;
   int rows = 0, boundary_rows = 0, connectors = 0, dropped_vertices = 0;
+  // The width of fabric the load-bearing rows stand for: the rows running along the long axis
+  // (wefts of a course test, warps of a wale test, courses of a knit's course test), each one
+  // row spacing of the tiling (the across period / that direction's rows per tile). Rows are
+  // whole, so this differs from the nominal width by up to a row: basket course, 18 wefts of
+  // 2.68 mm = 48.2 mm for 50 mm. Without rows along the long axis (a knit's wale test) it is
+  // the nominal width. The clamp force per this width is the fabric's N/m (docs/strip.md).
+  double load_width = 0;
 
   int size() const { return static_cast<int>(x.size()); }
   int num_edges() const { return closed ? size() : size() - 1; }

@@ -186,6 +186,13 @@ Strip generate_strip(const StripTile& tile, const StripSpec& spec) {
   }
   if (rows[0].empty() && rows[1].empty()) fail("no yarn row lies inside the strip (is it narrower than a tile?)");
   s.rows = static_cast<int>(rows[0].size() + rows[1].size());
+  {
+    const int dl = spec.axis == StripAxis::kCourse ? 0 : 1;  // rows along the long axis
+    const int per_tile = static_cast<int>(
+        std::count_if(T.yarns.begin(), T.yarns.end(), [&](const TileYarn& t) { return t.dir == dl; }));
+    const double pa = dl == 0 ? T.A(1, 1) : T.A(0, 0);  // their across period
+    s.load_width = !rows[dl].empty() && per_tile > 0 ? double(rows[dl].size()) * pa / per_tile : s.width;
+  }
   if (knit && spec.bind_off) {
     rows[0].push_back(below);
     rows[0].push_back(above);

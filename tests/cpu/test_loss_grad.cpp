@@ -15,7 +15,7 @@ namespace {
 
 struct Problem {
   NetworkDesc desc;
-  std::vector<double> params, x, y, g, xo, no;
+  std::vector<double> params, x, y, g, xo, no, wt;  // wt empty: unweighted
   cpu::LossBatch<double> batch() const {
     cpu::LossBatch<double> b;
     b.m = int(y.size());
@@ -25,6 +25,7 @@ struct Problem {
     b.k = int(xo.size()) / desc.input_dim;
     b.xo = xo.data();
     b.no = no.data();
+    b.wt = wt.empty() ? nullptr : wt.data();
     return b;
   }
 };
@@ -106,6 +107,43 @@ TEST_P(LossGrad, TotalWithAllTermsMatchesFiniteDifferences) {
   cpu::LossOptions o;
   o.w.x = 0.3;
   check_gradient(p, o, "total");
+}
+
+// Per-point weights (the polish's relative fit) on L_Z and L_F: the gradient stays exact, and the
+// weights mean what they say: all 2 doubles the data losses, 0 on a point drops it.
+TEST_P(LossGrad, PerPointWeightsMatchFiniteDifferencesAndScaleEachPoint) {
+  const int d = GetParam();
+  Problem p = make_problem(d, 70, 0, 51 + d);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.1, 5.0);
+  p.wt.resize(p.y.size());
+  for (auto& v : p.wt) v = u(rng);
+  check_gradient(p, only('Z'), "weighted Z");
+  check_gradient(p, only('F'), "weighted F");
+
+  cpu::LossWorkspace<double> ws;
+  cpu::LossOptions o;
+  o.w.c = 0;
+  Problem q = p;
+  q.wt.clear();
+  const cpu::LossValues base = cpu::mlp_loss_grad<double>(q.desc, q.params.data(), q.batch(), o, nullptr, ws);
+  q.wt.assign(q.y.size(), 2.0);
+  const cpu::LossValues twice = cpu::mlp_loss_grad<double>(q.desc, q.params.data(), q.batch(), o, nullptr, ws);
+  EXPECT_NEAR(twice.z, 2 * base.z, 1e-12 * base.z);
+  EXPECT_NEAR(twice.f, 2 * base.f, 1e-12 * base.f);
+  // Weight 0 on the last point = the batch without it (the mean still divides by all m points).
+  q.wt.assign(q.y.size(), 1.0);
+  q.wt.back() = 0;
+  const cpu::LossValues dropped = cpu::mlp_loss_grad<double>(q.desc, q.params.data(), q.batch(), o, nullptr, ws);
+  Problem r = p;
+  r.wt.clear();
+  r.x.resize(r.x.size() - d);
+  r.g.resize(r.g.size() - d);
+  r.y.pop_back();
+  const cpu::LossValues fewer = cpu::mlp_loss_grad<double>(r.desc, r.params.data(), r.batch(), o, nullptr, ws);
+  const double m = double(p.y.size());
+  EXPECT_NEAR(dropped.z * m, fewer.z * (m - 1), 1e-12);
+  EXPECT_NEAR(dropped.f * m, fewer.f * (m - 1), 1e-12);
 }
 
 TEST_P(LossGrad, StencilGradientMatchesFiniteDifferences) {

@@ -110,18 +110,23 @@ TEST_P(CudaKernels, DataAndStrainLossesMatchCpu) {
   w.x = 0.5;  // exercise L_X too
   const auto jet = uniform(size_t(C) * B, -2.f, 2.f, 21);
   const auto y = uniform(B, -1.f, 1.f, 22), g = uniform(size_t(B) * d, -1.f, 1.f, 23);
-  std::vector<float> djet_ref(jet.size(), 0.f);
+  const auto wt = uniform(B, 0.f, 3.f, 24);  // per-point weights (the polish's relative fit)
   const float scale = 1.f / B;
-  auto ref = cpu::data_losses<float>(d, B, 3, jet.data(), y.data(), g.data(), w, true, scale, djet_ref.data());
-  cuda::DeviceVec<float> djet_d(jet.size()), jet_d(jet), y_d(y), g_d(g);
-  djet_d.fill_zero();
-  auto got = cuda::data_losses(d, B, 3, jet_d.data(), y_d.data(), g_d.data(), w, true, scale, djet_d.data());
-  EXPECT_NEAR(got.z, ref.z, 1e-5 * std::abs(ref.z));
-  EXPECT_NEAR(got.f, ref.f, 1e-5 * std::abs(ref.f));
-  EXPECT_NEAR(got.c, ref.c, 1e-5 * std::abs(ref.c));
-  EXPECT_NEAR(got.x, ref.x, 1e-5 * std::abs(ref.x) + 1e-12);
-  const auto djet = djet_d.download();
-  EXPECT_LT(rel_err(djet.data(), djet_ref.data(), djet.size()), 1e-5);
+  for (const bool weighted : {false, true}) {
+    const float* wh = weighted ? wt.data() : nullptr;
+    std::vector<float> djet_ref(jet.size(), 0.f);
+    auto ref = cpu::data_losses<float>(d, B, 3, jet.data(), y.data(), g.data(), wh, w, true, scale, djet_ref.data());
+    cuda::DeviceVec<float> djet_d(jet.size()), jet_d(jet), y_d(y), g_d(g), wt_d(wt);
+    djet_d.fill_zero();
+    auto got = cuda::data_losses(d, B, 3, jet_d.data(), y_d.data(), g_d.data(), weighted ? wt_d.data() : nullptr, w,
+                                 true, scale, djet_d.data());
+    EXPECT_NEAR(got.z, ref.z, 1e-5 * std::abs(ref.z)) << "weighted " << weighted;
+    EXPECT_NEAR(got.f, ref.f, 1e-5 * std::abs(ref.f)) << "weighted " << weighted;
+    EXPECT_NEAR(got.c, ref.c, 1e-5 * std::abs(ref.c));
+    EXPECT_NEAR(got.x, ref.x, 1e-5 * std::abs(ref.x) + 1e-12);
+    const auto djet = djet_d.download();
+    EXPECT_LT(rel_err(djet.data(), djet_ref.data(), djet.size()), 1e-5) << "weighted " << weighted;
+  }
 
   const int K = 333;
   const auto ojet = uniform(size_t(C1) * K, -2.f, 2.f, 31), nrm = uniform(size_t(K) * d, -1.f, 1.f, 32);

@@ -195,7 +195,10 @@ TEST(CliSim, DrapeWithATrainedModelIsStableAndExportRoundTrips) {
   ASSERT_EQ(r.status, 0) << r.out;
   const auto off = read_csv(d + "/off/steps.csv");
   ASSERT_EQ(off.size(), 90u);
-  EXPECT_LT(off.back()[8], 0.01) << "max speed at the end, m/s";
+  // At rest up to the creep of steps that end within the Newton tolerance (docs/benchmarks.md,
+  // the drape with friction): measured 5-15 mm/s from frame 60 to 150, against 1.2 m/s at
+  // frame 10.
+  EXPECT_LT(off.back()[8], 0.02) << "max speed at the end, m/s";
   const auto on = centre_of_mass(read_obj_vertices(d + "/off/frames/frame_0090.obj"));
   EXPECT_GT(on[2], 0.0) << "centre of mass above the sphere's centre";
   EXPECT_LT(std::hypot(on[0], on[1]), 0.05);

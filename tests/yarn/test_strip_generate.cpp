@@ -5,6 +5,7 @@
 // step filter, block Hessian.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <cmath>
 #include <cstdio>
@@ -200,6 +201,48 @@ TEST(StripGenerate, OneContinuousYarnWithTwoFreeEnds) {
         EXPECT_EQ(s.boundary_rows, 2);
         EXPECT_EQ(s.connectors + 1, s.rows + 2);
       }
+    }
+  std::filesystem::remove_all(dir);
+}
+
+// The load width: the rows along the long axis, one row spacing each, counted here from the
+// exported centrelines (polylines that run the strip's length), their spacing from their centre
+// lines. Rows are whole, so it differs from the nominal width by less than a row; a knit's
+// wale strip has no rows along its axis and keeps the nominal width.
+TEST(StripGenerate, LoadWidthIsTheRowsAlongTheLongAxis) {
+  const std::string dir = temp_dir("strip_load_width");
+  for (const std::string& pat : {std::string("knit"), std::string("plain")})
+    for (StripAxis axis : {StripAxis::kCourse, StripAxis::kWale}) {
+      const Strip s = small_strip(pat, axis, 3.6);
+      const int along = axis == StripAxis::kCourse ? 0 : 1, across = 1 - along;
+      write_centrelines(dir + "/c.obj", s, s.x);
+      const Polylines P = read_polylines(dir + "/c.obj");
+      std::vector<double> centres;
+      for (const auto& l : P.lines) {
+        double lo = 1e9, hi = -1e9, c = 0;
+        bool boundary = false;
+        for (int v : l) {
+          lo = std::min(lo, P.v[v][along]);
+          hi = std::max(hi, P.v[v][along]);
+          c += P.v[v][across] / l.size();
+        }
+        for (size_t k = 0; k + 1 < l.size(); ++k) boundary = boundary || s.connector_edge[std::min(l[k], l[k + 1])];
+        if (hi - lo > 0.8 * s.length && !boundary) centres.push_back(c);
+      }
+      std::sort(centres.begin(), centres.end());
+      const std::string what = pat + " " + to_string(axis);
+      if (pat == "knit" && axis == StripAxis::kWale) {
+        EXPECT_TRUE(centres.empty()) << what;
+        EXPECT_EQ(s.load_width, s.width) << what;
+        continue;
+      }
+      const int n = int(centres.size());
+      ASSERT_GE(n, 3) << what;
+      const double spacing = (centres.back() - centres.front()) / (n - 1);
+      std::printf("%s: %d rows, spacing %.4g mm, load width %.4g mm, nominal %.4g mm\n", what.c_str(), n,
+                  1e3 * spacing, 1e3 * s.load_width, 1e3 * s.width);
+      EXPECT_NEAR(s.load_width, n * spacing, 0.05 * spacing) << what << ": " << n << " rows";
+      EXPECT_LT(std::abs(s.load_width - s.width), spacing) << what;
     }
   std::filesystem::remove_all(dir);
 }
