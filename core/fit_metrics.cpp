@@ -79,7 +79,10 @@ FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, con
   }
   q.energy_range = hi - lo;
   q.grad_mean = gsum / N;
-  double e2 = 0, dg2 = 0;
+  double gmax = 0;  // largest |dPsi| of a 1D term, for the small-stress band
+  if (d == 1)
+    for (int p = 0; p < N; ++p) gmax = std::max(gmax, std::abs(data.gradient[p]));
+  double e2 = 0, dg2 = 0, ss2 = 0;
   auto add = [&](int p) {
     if (p < 0 || p >= N) throw std::invalid_argument("fit_quality: point index out of range for term " + data.term.name);
     const double r = jet[p] - data.energy[p];
@@ -87,6 +90,14 @@ FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, con
     for (int i = 0; i < d; ++i) {
       const double di = h[i] * (jet[size_t(1 + i) * N + p] - data.gradient[size_t(p) * d + i]);
       dg2 += di * di;
+    }
+    if (d == 1) {
+      const double g = data.gradient[p], a = std::abs(g);
+      if (a >= kSmallStressBand[0] * gmax && a <= kSmallStressBand[1] * gmax && a > 0) {
+        const double r = (jet[size_t(N) + p] - g) / a;
+        ss2 += r * r;
+        ++q.small_stress_n;
+      }
     }
     ++q.n;
   };
@@ -98,6 +109,7 @@ FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, con
   q.grad_rms = std::sqrt(dg2 / q.n);
   q.energy_rel = q.energy_range > 0 ? q.energy_rmse / q.energy_range : 0.0;
   q.grad_rel = q.grad_mean > 0 ? q.grad_rms / q.grad_mean : 0.0;
+  q.small_stress_rel = q.small_stress_n > 0 ? std::sqrt(ss2 / q.small_stress_n) : -1.0;
   q.data_inconsistency = data_inconsistency(data, q.grad_mean);
   return q;
 }
@@ -114,6 +126,12 @@ std::string fit_verdict(const FitQuality& q) {
   if (!q.grad_ok()) {
     std::snprintf(buf, sizeof buf, "%s gradient error %.3g%% of the mean gradient (limit %g%%)", q.energy_ok() ? "" : ";",
                   100 * q.grad_rel, 100 * kFitGradThreshold);
+    out += buf;
+  }
+  if (!q.small_stress_ok()) {
+    std::snprintf(buf, sizeof buf, "%s small stresses off by %.3g%% (RMS over %d points with |dPsi| at 1-20%% of its largest; limit %g%%)",
+                  q.energy_ok() && q.grad_ok() ? "" : ";", 100 * q.small_stress_rel, q.small_stress_n,
+                  100 * kFitSmallStressThreshold);
     out += buf;
   }
   if (q.data_inconsistency >= kFitGradThreshold) {

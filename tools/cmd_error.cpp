@@ -222,18 +222,20 @@ void register_error(CLI::App& app) {
     int failed = 0;
     if (any_fit) {
       std::printf("Fit to the data, in physical units (docs/training.md, \"Fit quality\"): energy RMSE relative to the "
-                  "term's data range, RMS gradient error relative to its mean gradient (box coordinates); limits %g%% and "
-                  "%g%% on the validation points%s. 'data G' is the data's own inconsistency (its gradients against "
+                  "term's data range, RMS gradient error relative to its mean gradient (box coordinates), and for 1D terms "
+                  "'S', the RMS relative error of the small stresses (|dPsi| at 1-20%% of the term's largest); limits %g%%, "
+                  "%g%% and %g%% on the validation points%s. 'data G' is the data's own inconsistency (its gradients against "
                   "the slopes of its energies, same unit): where it is above the limit no smooth fit can pass\n",
-                  100 * kFitEnergyThreshold, 100 * kFitGradThreshold,
+                  100 * kFitEnergyThreshold, 100 * kFitGradThreshold, 100 * kFitSmallStressThreshold,
                   any_val ? "" : " (this model records no validation split: measured on all points)");
       if (baked)
         std::printf("The verdict is the network's (what training achieved); the baked columns are the tables a "
                     "simulator evaluates: a 2D table is the network everywhere in the box (to the bake's interpolation "
                     "accuracy), a 1D table too except where bake's end repair made a 1D term rise outward "
                     "(docs/bake.md).\n");
-      std::printf("%-5s %6s  %-10s %-10s | %-10s %-10s %-7s |%s %s\n", "term", "N val", "val E/rng", "val G/avg",
-                  "all E/rng", "all G/avg", "data G", baked ? " baked E    baked G    |" : "", "verdict");
+      std::printf("%-5s %6s  %-10s %-10s %-9s | %-10s %-10s %-9s %-7s |%s %s\n", "term", "N val", "val E/rng",
+                  "val G/avg", "val S", "all E/rng", "all G/avg", "all S", "data G",
+                  baked ? " baked E    baked G    |" : "", "verdict");
       for (const Row& r : rows) {
         if (!r.has_fit) continue;
         const FitQuality& q = r.has_net ? r.net_q : r.val_q;
@@ -241,10 +243,12 @@ void register_error(CLI::App& app) {
         std::string verdict = fit_verdict(q);
         failed += !q.ok();
         if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? "; the BAKED table fails (1D end repair or interpolation)" : "";
-        char dg[32] = "-";
+        char dg[32] = "-", vs[32] = "-", as[32] = "-";
         if (qa.data_inconsistency >= 0) std::snprintf(dg, sizeof dg, "%.3g", 100 * qa.data_inconsistency);
-        std::printf("%-5s %6d  %-10.3g %-10.3g | %-10.3g %-10.3g %-7s |", r.term.c_str(), q.n, 100 * q.energy_rel,
-                    100 * q.grad_rel, 100 * qa.energy_rel, 100 * qa.grad_rel, dg);
+        if (q.small_stress_rel >= 0) std::snprintf(vs, sizeof vs, "%.3g", 100 * q.small_stress_rel);
+        if (qa.small_stress_rel >= 0) std::snprintf(as, sizeof as, "%.3g", 100 * qa.small_stress_rel);
+        std::printf("%-5s %6d  %-10.3g %-10.3g %-9s | %-10.3g %-10.3g %-9s %-7s |", r.term.c_str(), q.n,
+                    100 * q.energy_rel, 100 * q.grad_rel, vs, 100 * qa.energy_rel, 100 * qa.grad_rel, as, dg);
         if (baked) std::printf(" %-10.3g %-10.3g |", 100 * r.val_q.energy_rel, 100 * r.val_q.grad_rel);
         std::printf(" %s\n", verdict.c_str());
       }
@@ -283,7 +287,7 @@ void register_error(CLI::App& app) {
       if (!out) throw std::invalid_argument(o->csv + ": cannot write");
       out << "term,n,E_I,E_I_rel,energy_mae,energy_rmse,energy_rel,grad_mae,grad_rel,bake_max_rel,bake_mean_rel,"
              "val_n,val_energy_rel_range,val_grad_rel_mean,all_energy_rel_range,all_grad_rel_mean,fit_ok,verdict,"
-             "baked_val_energy_rel_range,baked_val_grad_rel_mean,baked_ok\n";
+             "baked_val_energy_rel_range,baked_val_grad_rel_mean,baked_ok,val_small_stress_rel,all_small_stress_rel\n";
       for (const Row& r : rows) {
         out << r.term << ',' << r.n << ',' << r.E << ',' << r.E_rel << ',';
         if (r.has_fit) out << r.fit.energy_mae << ',' << r.fit.energy_rmse << ',' << r.fit.energy_rel << ',' << r.fit.grad_mae << ',' << r.fit.grad_rel << ',';
@@ -295,13 +299,15 @@ void register_error(CLI::App& app) {
           const FitQuality& qa = r.has_net ? r.net_all : r.all_q;
           out << q.n << ',' << q.energy_rel << ',' << q.grad_rel << ',' << qa.energy_rel << ',' << qa.grad_rel
               << ',' << (q.ok() ? 1 : 0) << ",\"" << fit_verdict(q) << "\",";
-          if (baked) out << r.val_q.energy_rel << ',' << r.val_q.grad_rel << ',' << (r.val_q.ok() ? 1 : 0) << '\n';
-          else out << ",,\n";
+          if (baked) out << r.val_q.energy_rel << ',' << r.val_q.grad_rel << ',' << (r.val_q.ok() ? 1 : 0) << ',';
+          else out << ",,,";
+          auto ss = [](const FitQuality& f) { return f.small_stress_rel >= 0 ? std::to_string(f.small_stress_rel) : std::string(); };
+          out << ss(q) << ',' << ss(qa) << '\n';
         } else {
-          out << ",,,,,,,,,\n";
+          out << ",,,,,,,,,,,\n";
         }
       }
-      out << "E,," << E << ",,,,,,,,,,,,,,,,,,\n";
+      out << "E,," << E << ",,,,,,,,,,,,,,,,,,,,\n";
       out.close();
       if (!out) throw std::invalid_argument(o->csv + ": write failed");
       file.commit();

@@ -184,14 +184,19 @@ void register_pipeline(CLI::App& app) {
           baked_note = "; baked table: energy " + std::to_string(100 * std::stod(tail[1])).substr(0, 5) +
                        "%, gradient " + std::to_string(100 * std::stod(tail[2])).substr(0, 6) +
                        "% (bake's 1D end repair or interpolation, docs/bake.md)";
-        std::snprintf(buf, sizeof buf, "    %-4s energy %6.2f%%  gradient %7.2f%%   %s%s\n", cols[0].c_str(),
-                      100 * std::stod(cols[12]), 100 * std::stod(cols[13]), verdict.c_str(), baked_note.c_str());
+        // tail[4]: the validation small-stress error of a 1D term (empty for 2D terms)
+        char small[48] = "";
+        if (tail.size() >= 5 && !tail[4].empty())
+          std::snprintf(small, sizeof small, "  small stresses %5.1f%%", 100 * std::stod(tail[4]));
+        std::snprintf(buf, sizeof buf, "    %-4s energy %6.2f%%  gradient %7.2f%%%s   %s%s\n", cols[0].c_str(),
+                      100 * std::stod(cols[12]), 100 * std::stod(cols[13]), small, verdict.c_str(), baked_note.c_str());
         lines += buf;
       }
     }
     std::printf("  %zu terms; validation fit of the networks (energy RMSE / data range, gradient error / mean "
-                "gradient; limits %g%% and %g%%):\n%s", m.networks.size(), 100 * kFitEnergyThreshold,
-                100 * kFitGradThreshold, lines.c_str());
+                "gradient, and for 1D terms the small stresses' relative error; limits %g%%, %g%% and %g%%):\n%s",
+                m.networks.size(), 100 * kFitEnergyThreshold, 100 * kFitGradThreshold, 100 * kFitSmallStressThreshold,
+                lines.c_str());
     if (measured)
       std::printf("  %s\n", failed ? (std::to_string(failed) + " of " + std::to_string(measured) +
                                       " terms FAIL the limits: the material does not represent the data there").c_str()

@@ -202,9 +202,10 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   // meaning on the held-out validation points (core/fit_metrics.hpp), with the verdict.
   // "data G" is the data's own inconsistency (gradients against the slopes of their energies,
   // same unit as G err/avg): a term whose data are not smooth cannot be fitted below it.
-  std::printf("%-5s %11s %11s %6s %6s %8s  %9s %9s %7s  %s\n", "term", "train loss", "val loss", "epochs", "polish",
-              "time", "E err/rng", "G err/avg", "data G",
-              "validation fit (limits: energy RMSE < 3% of range, gradient error < 10% of mean)");
+  // "S err" is the small-stress error of a 1D term (1-20 % of its largest stress, relative).
+  std::printf("%-5s %11s %11s %6s %6s %8s  %9s %9s %7s %7s  %s\n", "term", "train loss", "val loss", "epochs", "polish",
+              "time", "E err/rng", "G err/avg", "S err", "data G",
+              "validation fit (limits: energy RMSE < 3% of range, gradient error < 10% of mean, small stresses < 10%)");
   int failed_fit = 0;
   for (size_t j = 0; j < res.rows.size(); ++j) {
     const ProgressRow& r = res.rows[j];
@@ -212,17 +213,18 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
     const double val = p.iterations > 0 ? p.val_end : r.stats.val.total;
     const double tr = p.iterations > 0 ? p.train_end : r.stats.train.total;
     std::string verdict = r.status;
-    char e[32] = "-", g[32] = "-", dg[32] = "-";
+    char e[32] = "-", g[32] = "-", ss[32] = "-", dg[32] = "-";
     if (r.status == "ok") {
       const FitQuality& q = res.val_fit[j];
       std::snprintf(e, sizeof e, "%.2f%%", 100 * q.energy_rel);
       std::snprintf(g, sizeof g, "%.2f%%", 100 * q.grad_rel);
+      if (q.small_stress_rel >= 0) std::snprintf(ss, sizeof ss, "%.1f%%", 100 * q.small_stress_rel);
       if (q.data_inconsistency >= 0) std::snprintf(dg, sizeof dg, "%.1f%%", 100 * q.data_inconsistency);
       verdict = fit_verdict(q);
       failed_fit += !q.ok();
     }
-    std::printf("%-5s %11.4e %11.4e %6d %6d %8s  %9s %9s %7s  %s\n", r.name.c_str(), tr, val, r.epochs_done,
-                p.iterations, format_seconds(res.seconds[j]).c_str(), e, g, dg, verdict.c_str());
+    std::printf("%-5s %11.4e %11.4e %6d %6d %8s  %9s %9s %7s %7s  %s\n", r.name.c_str(), tr, val, r.epochs_done,
+                p.iterations, format_seconds(res.seconds[j]).c_str(), e, g, ss, dg, verdict.c_str());
   }
   if (failed_fit)
     std::printf("%d term(s) do not fit their validation data within the limits (see docs/training.md, \"Fit quality\")\n",

@@ -1,6 +1,7 @@
 // The fit metrics of core/fit_metrics.hpp on data whose answers are known by hand.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/fit_metrics.hpp"
@@ -101,4 +102,64 @@ TEST(FitMetrics, DataInconsistencyOfAGrid) {
   TermData s = d;
   for (int p = 0; p < s.n; ++p) s.strain[2 * p] += 1e-3 * p;
   EXPECT_LT(data_inconsistency(s, 1.0), 0.0);
+}
+
+// The small-stress error of a 1D term: the relative gradient error over the points whose |dPsi|
+// is 1-20 % of the largest. A network 25 % too stiff there passes the range-relative limits
+// (the basket s_x term before the relative fit) and fails this one; 2D terms are not measured.
+TEST(FitMetrics, SmallStressErrorSeesWhatTheRangeRelativeLimitsMiss) {
+  TermData d;
+  d.term = term_by_name("0");
+  d.lower = {-0.2};
+  d.upper = {1.0};
+  d.n = 121;
+  // Psi = 42 s^2 + 0.3 (exp(-s^2/0.01) - 1): dPsi 0.29 at 0.012, 84 at 1 (like basket s_x).
+  auto psi = [](double s) { return 42 * s * s + 0.3 * (std::exp(-s * s / 0.01) - 1); };
+  auto dpsi = [](double s) { return 84 * s - 60 * s * std::exp(-s * s / 0.01); };
+  for (int i = 0; i < d.n; ++i) {
+    const double s = -0.2 + 1.2 * i / (d.n - 1);
+    d.strain.push_back(s);
+    d.energy.push_back(psi(s));
+    d.gradient.push_back(dpsi(s));
+  }
+  double gmax = 0;
+  for (double g : d.gradient) gmax = std::max(gmax, std::abs(g));
+  // The prediction: exact, except 25 % too stiff wherever |s| < 0.15 (the small strains).
+  std::vector<double> jet(2 * d.n);
+  int in_band = 0;
+  for (int p = 0; p < d.n; ++p) {
+    const double s = d.strain[p], g = d.gradient[p];
+    jet[p] = d.energy[p] + (std::abs(s) < 0.15 ? 0.25 * d.energy[p] : 0.0);
+    jet[d.n + p] = std::abs(s) < 0.15 ? 1.25 * g : g;
+    const double a = std::abs(g);
+    in_band += a >= 0.01 * gmax && a <= 0.2 * gmax && std::abs(s) < 0.15;
+  }
+  const FitQuality q = fit_quality(d, jet);
+  EXPECT_TRUE(q.energy_ok()) << q.energy_rel;
+  EXPECT_TRUE(q.grad_ok()) << q.grad_rel;
+  ASSERT_GT(q.small_stress_n, in_band);  // the band reaches past |s| = 0.15 too
+  // RMS of 0.25 over the in-band points inside |s| < 0.15, 0 over the others.
+  EXPECT_NEAR(q.small_stress_rel, 0.25 * std::sqrt(double(in_band) / q.small_stress_n), 1e-12);
+  EXPECT_FALSE(q.small_stress_ok());
+  EXPECT_FALSE(q.ok());
+  EXPECT_NE(fit_verdict(q).find("small stresses off by"), std::string::npos) << fit_verdict(q);
+  // The exact prediction passes; points outside the band (e.g. only the largest) measure nothing.
+  for (int p = 0; p < d.n; ++p) jet[d.n + p] = d.gradient[p], jet[p] = d.energy[p];
+  EXPECT_DOUBLE_EQ(fit_quality(d, jet).small_stress_rel, 0.0);
+  EXPECT_EQ(fit_quality(d, jet, {d.n - 1}).small_stress_rel, -1.0);
+  EXPECT_TRUE(fit_quality(d, jet, {d.n - 1}).small_stress_ok());
+}
+
+// 2D terms have no small-stress error.
+TEST(FitMetrics, SmallStressErrorIsFor1DTermsOnly) {
+  TermData d;
+  d.term = term_by_name("02");
+  d.n = 4;
+  d.strain = {0, 0, 1, 0, 0, 1, 1, 1};
+  d.energy = {0, 1, 2, 4};
+  d.gradient = {3, 4, 0.5, 0, 0, 0.5, 6, 8};
+  const std::vector<double> jet = {0, 1, 2, 4, 3, 1, 0, 6, 4, 0, 1, 8};
+  const FitQuality q = fit_quality(d, jet);
+  EXPECT_EQ(q.small_stress_rel, -1.0);
+  EXPECT_EQ(q.small_stress_n, 0);
 }
