@@ -30,6 +30,7 @@ struct MaterialResult {
   std::vector<StepMetrics> steps;  // the tests its continuum strip reached (all, unless it failed)
   AccuracySummary summary;         // over those tests
   std::string failure;             // the spline baseline's sim stage failed: why (its steps stop there)
+  std::string box_note;            // where its strip's middle reached the data boxes (accuracy/box_reach.hpp)
 };
 
 struct AccuracyResult {

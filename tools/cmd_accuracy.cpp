@@ -13,6 +13,7 @@
 #include <fstream>
 #include <memory>
 
+#include "accuracy/box_reach.hpp"
 #include "accuracy/csv_columns.hpp"
 #include "core/atomic_file.hpp"
 #include "tools/accuracy_run.hpp"
@@ -105,11 +106,11 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
     mstage({"train-all", a, {ds}, {model}});
     mstage({"bake", {"bake", model, "-o", neural, "--data", ds}, {model, ds}, {neural}});
   }
-  r.materials.push_back({"neural", neural, {}, {}, {}});
+  r.materials.push_back({"neural", neural, {}, {}, {}, {}});
   if (o.spline) {
     const std::string spline = (mdir / "spline.h5").string();
     mstage({"fit-splines", {"fit-splines", ds, "-o", spline}, {ds}, {spline}});
-    r.materials.push_back({"spline", spline, {}, {}, {}});
+    r.materials.push_back({"spline", spline, {}, {}, {}, {}});
   }
   const fs::path strip_dir = o.strip_dir.empty() ? dir / "strip" : fs::path(o.strip_dir);
   const std::string strip_force = (strip_dir / "force.csv").string();
@@ -173,6 +174,15 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       m.steps.push_back(compare_step(yarn_objs[k], objs[k], ys[k], yt[k], ct[k], o.spacing));
     }
     m.summary = summarize(m.steps);
+    // Where the strip's middle left the data (stretch.csv of older runs has no middle columns).
+    if (fs::exists(sd / "stretch.csv")) {
+      const CsvColumns mc = read_csv_columns((sd / "stretch.csv").string(), {"middle_s_x", "middle_s_a", "middle_s_y"});
+      std::vector<std::vector<double>> mid(3);
+      const char* names[3] = {"middle_s_x", "middle_s_a", "middle_s_y"};
+      for (int c = 0; c < 3; ++c)
+        if (mc.count(names[c])) mid[c] = mc.at(names[c]);
+      m.box_note = box_reach_text(box_reach(read_baked(m.baked), mid), ys);
+    }
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
@@ -247,6 +257,11 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
     std::snprintf(buf, sizeof buf, "  %-7s %.3f N/m, %.3f cm, %.2f %% (%d tests), %.2f %%\n", m.name.c_str(), a.mean_stress_diff,
                   100 * a.mean_hausdorff, 100 * a.mean_rel_error, a.rel_tests, 100 * a.ratio_of_means);
     s += buf;
+    if (!m.box_note.empty()) {
+      std::string note = m.box_note;
+      for (size_t at = 0; (at = note.find('\n', at)) != std::string::npos; at += 1) note.replace(at, 1, "\n  " + m.name + "  ");
+      s += "  " + m.name + "  " + note + "\n";
+    }
     if (!m.failure.empty()) {
       std::snprintf(buf, sizeof buf, "  %-7s STOPPED after %zu of %zu tests (the means above cover those): ", m.name.c_str(),
                     m.steps.size(), r.stretch.size());
