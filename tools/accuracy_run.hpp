@@ -35,6 +35,7 @@ struct MaterialResult {
 
 struct AccuracyResult {
   std::vector<double> stretch, n_yarn;
+  bool n_yarn_per_load_width = true;  // false: the strip's force.csv predates the load width (nominal width)
   std::vector<MaterialResult> materials;
   std::vector<std::pair<std::string, double>> stage_seconds;  // the stages that ran
   double seconds = 0;

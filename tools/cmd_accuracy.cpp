@@ -61,13 +61,15 @@ std::vector<std::string> step_objs(const fs::path& folder, size_t n, bool at_lea
 // stretch and tension (N/m) columns of a force curve. A yarn strip's force is taken per its load
 // width (the width of fabric its rows stand for, yarn::Strip::load_width) where force.csv has it;
 // strips written before it was recorded give the force per nominal width.
-void read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
+// Returns whether the force is per load width.
+bool read_force(const std::string& path, std::vector<double>& stretch, std::vector<double>& tension) {
   const std::vector<std::string> names = {"tension_load_N_per_m", "tension_N_per_m", "force_per_width_N_per_m"};
   std::vector<std::string> only = {"stretch", "ratio", "lambda"};
   only.insert(only.end(), names.begin(), names.end());
   const CsvColumns t = read_csv_columns(path, only);
   stretch = csv_column(t, {"stretch", "ratio", "lambda"}, path);
   tension = csv_column(t, names, path);
+  return t.count("tension_load_N_per_m") > 0;
 }
 
 }  // namespace
@@ -153,7 +155,7 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
 
   // Metrics: step by step, the same stretch ratios in both force curves.
   std::vector<double> ys, yt;
-  read_force(strip_force, ys, yt);
+  r.n_yarn_per_load_width = read_force(strip_force, ys, yt);
   r.stretch = ys;
   r.n_yarn = yt;
   const auto yarn_objs = step_objs(strip_dir / "centrelines", ys.size());
@@ -268,6 +270,9 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
       s += buf + m.failure + "\n";
     }
   }
+  if (!r.n_yarn_per_load_width)
+    s += "  note: N_yarn is the yarn strip's force per its nominal width: its force.csv predates the load width "
+         "(docs/strip.md section 3); rerun strip with the same settings (every step is kept) to record it\n";
   std::snprintf(buf, sizeof buf, "total %s\n", format_seconds(r.seconds).c_str());
   s += buf;
   return s;

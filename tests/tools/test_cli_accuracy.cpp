@@ -1,6 +1,8 @@
 // The accuracy study's commands end to end: fit-splines on a dataset, its baked file read back by
 // eval (inside the knots and in the linear extrapolation); `accuracy` on stocktiny.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <unistd.h>
 
 #include <cmath>
@@ -102,6 +104,34 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   EXPECT_NEAR(v.front()[0], 1.0, 1e-9);
   EXPECT_NEAR(v.back()[0], 1.7, 1e-9);
   EXPECT_GT(v.back()[1], 0.0) << "the yarn strip is in tension at 170 %";
+  // N_yarn is the yarn strip's force per its load width (the last column of its force.csv;
+  // docs/strip.md section 3), one width for every step, and the report does not warn about it.
+  {
+    std::istringstream f(slurp(d + "/acc/strip/force.csv"));
+    std::string line, cell;
+    std::getline(f, line);
+    std::vector<std::string> head;
+    for (std::stringstream hs(line); std::getline(hs, cell, ',');) head.push_back(cell);
+    ASSERT_EQ(head.back(), "tension_load_N_per_m");
+    const size_t ifo = std::find(head.begin(), head.end(), "force_N") - head.begin();
+    ASSERT_LT(ifo, head.size());
+    double width = 0;
+    for (size_t k = 0; std::getline(f, line); ++k) {
+      std::vector<std::string> c;
+      for (std::stringstream ls(line); std::getline(ls, cell, ',');) c.push_back(cell);
+      ASSERT_EQ(c.size(), head.size());
+      ASSERT_LT(k, v.size());
+      // accuracy.csv holds 6 significant digits
+      EXPECT_NEAR(v[k][1], std::stod(c.back()), 1e-5 * std::abs(std::stod(c.back())) + 1e-12) << "step " << k;
+      if (std::abs(std::stod(c[ifo])) > 1e-9) {
+        const double w = std::stod(c[ifo]) / std::stod(c.back());
+        if (width == 0) width = w;
+        EXPECT_NEAR(w, width, 1e-6 * width) << "one load width for every step";
+      }
+    }
+    EXPECT_GT(width, 0.0);
+    EXPECT_EQ(slurp(d + "/acc/accuracy.md").find("predates the load width"), std::string::npos);
+  }
   // The neural material's columns (stretch, N_yarn and its five) are all there. The spline
   // baseline's may stop (recorded, not fatal: HYLC-style linear extrapolation can fall outward,
   // and this continuum strip is as small as the yarn strip, 3.5 mm, so it bends hard); once
@@ -121,9 +151,11 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   ASSERT_EQ(again.status, 0) << again.out;
   {
     std::stringstream lines(again.out);
-    for (std::string l; std::getline(lines, l);)
-      if (l.find("running") != std::string::npos)
+    for (std::string l; std::getline(lines, l);) {
+      if (l.find("running") != std::string::npos) {
         EXPECT_TRUE(stopped && l.find("sim-spline") != std::string::npos) << l;
+      }
+    }
   }
   // The measure: a continuum frame against its own vertices is 0 both ways (the surface is
   // sampled at the spacing, at least at its vertices: a spacing above the triangles' size keeps
@@ -157,5 +189,29 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   EXPECT_NEAR(wr[0][3], v[0][1], 1e-5 * (1 + std::abs(v[0][1]))) << "the same relaxed yarn strip";
   EXPECT_NEAR(wr[0][4], v[0][2], 1e-5 * (1 + std::abs(v[0][2]))) << "the same relaxed continuum strip";
   EXPECT_NE(wr[2][3], wr[0][3]) << "a wider yarn strip is another strip";
+
+  // A strip written before the load width (no last column): the force per nominal width, said.
+  {
+    const std::string fcsv = d + "/acc/strip/force.csv";
+    std::istringstream in(slurp(fcsv));
+    std::string out, line;
+    while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+    std::ofstream(fcsv) << out;
+    auto old = yarnhom::test::run_cli(cmd);
+    ASSERT_EQ(old.status, 0) << old.out;
+    EXPECT_NE(slurp(d + "/acc/accuracy.md").find("predates the load width"), std::string::npos);
+    const auto w = rows(slurp(d + "/acc/accuracy.csv"));
+    ASSERT_EQ(w.size(), v.size());
+    // (a knit's wale strip has no rows along its axis: its load width is the nominal one)
+    std::istringstream f(out);
+    std::getline(f, line);
+    for (size_t k = 0; std::getline(f, line); ++k) {
+      std::stringstream ls(line);
+      std::string c;
+      for (int i = 0; i < 3; ++i) std::getline(ls, c, ',');  // step, stretch, tension_N_per_m
+      ASSERT_LT(k, w.size());
+      EXPECT_NEAR(w[k][1], std::stod(c), 1e-5 * std::abs(std::stod(c)) + 1e-12) << "step " << k;
+    }
+  }
   fs::remove_all(d);
 }
