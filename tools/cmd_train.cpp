@@ -28,6 +28,7 @@ struct TrainOpts {
   int polish = 4000;
   double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
   bool polish_float = false;
+  double rest_weight = 0;
   bool polish_keep_last = false;
 };
 
@@ -112,6 +113,12 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("--relative-fit-2d", o.relative_2d, "The same for the 2D terms (0: unweighted)")
       ->check(finite_non_negative())
       ->capture_default_str();
+  cmd->add_option("--rest-curvature", o.rest_weight,
+                  "W > 0: the polish holds each 1D term's curvature at rest to the data's (the central "
+                  "difference of the gradients on either side of s = 0) with a penalty W (y'' - k)^2 in "
+                  "normalized units")
+      ->check(finite_non_negative())
+      ->capture_default_str();
   cmd->add_flag("--polish-float", o.polish_float,
                 "Compute the 1D terms' polish in float instead of double (faster, but L-BFGS stops "
                 "early on rounding once the fit is good; the 2D terms' polish is in float anyway)");
@@ -171,6 +178,7 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   if (given("--polish-keep-last")) opt.polish.keep_best = false;
   if (given("--relative-fit")) opt.polish.relative_floor[0] = o.relative;
   if (given("--relative-fit-2d")) opt.polish.relative_floor[1] = o.relative_2d;
+  if (given("--rest-curvature")) opt.polish.rest_weight = o.rest_weight;
   if (given("--polish-float")) opt.polish.in_double[0] = opt.polish.in_double[1] = false;
   o.epochs = opt.config.epochs;
   o.polish = opt.polish.iterations;

@@ -6,6 +6,7 @@
 // batching, off-domain sampling, forward, losses, backward, Adam, validation. The trainer
 // never touches the weights between epochs, so a device backend synchronizes with the host
 // once per epoch (to return the losses that drive the plateau schedule).
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -29,6 +30,9 @@ struct NetworkJob {
   std::vector<float> xo_val, no_val;             // fixed validation off-domain points [k, d]
   std::vector<float> init_params;
   std::vector<int> val_rows;                     // dataset rows of the validation points
+  // 1D terms: the rest s = 0 in normalized units and the data's curvature there (the central
+  // difference of the gradients of the nodes on either side), normalized; NaN when unknown.
+  float x_rest = NAN, curvature_rest = NAN;
 };
 
 struct TrainConfig {

@@ -8,6 +8,7 @@
 #include "core/rng.hpp"
 #include "cpu/flush_denormals.hpp"
 #include "cpu/loss_step.hpp"
+#include "cpu/mlp_jet.hpp"
 #include "train/lbfgs.hpp"
 
 namespace yarnhom {
@@ -119,18 +120,34 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   cpu::LossOptions loss = cfg.loss;
   if (opt.w_c >= 0) loss.w.c = opt.w_c;
   if (opt.w_s >= 0) loss.w.s = opt.w_s;
+  // The rest curvature penalty (1D terms): the jet at x_rest to second order.
+  const bool rest = opt.rest_weight > 0 && d == 1 && std::isfinite(job.x_rest) && std::isfinite(job.curvature_rest);
+  cpu::JetWorkspace<T> rws;
+  auto rest_penalty = [&](const std::vector<T>& p, T* grad) -> double {
+    if (!rest) return 0.0;
+    const T xr = T(job.x_rest);
+    T jet[3], dj[3] = {0, 0, 0};
+    cpu::mlp_jet_forward<T>(job.desc, p.data(), &xr, 1, 2, jet, rws);
+    const double r = double(jet[2]) - double(job.curvature_rest);
+    if (grad) {
+      dj[2] = T(2 * opt.rest_weight * r);
+      cpu::mlp_jet_backward<T>(job.desc, p.data(), &xr, 1, 2, dj, grad, rws);
+    }
+    return opt.rest_weight * r * r;
+  };
   // Which iterate to keep is judged by the data terms on the validation points: the fit
   // the model is for. (The validation L_S, at other off-domain points than the polish's,
   // would reward iterates that fit worse; see off_domain_layers.)
   auto val_loss = [&](const std::vector<T>& p) {
     const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, p.data(), val, loss, nullptr, ws, 1);
-    return loss.w.z * v.z + loss.w.f * v.f;
+    return loss.w.z * v.z + loss.w.f * v.f + rest_penalty(p, nullptr);
   };
   const LbfgsObjective fg = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
     to_float(x);
     const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, pf.data(), train, loss, gf.data(), ws, 1);
+    const double pen = rest_penalty(pf, gf.data());
     for (int i = 0; i < P; ++i) g[i] = gf[i];
-    return v.total;
+    return v.total + pen;
   };
 
   std::vector<T> best = as<T>(params);

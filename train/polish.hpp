@@ -43,6 +43,10 @@ struct PolishOptions {
   // 3 % in double. The 2D terms' polishes run their 4000 iterations in float and cost 2x in
   // double (docs/training.md, "Relative fit").
   bool in_double[2] = {true, false};
+  // > 0: the 1D terms' curvature at rest is held to the data's (NetworkJob::curvature_rest) by
+  // a penalty rest_weight (y''(x_rest) - k)^2 in normalized units, added to the polish's loss
+  // and its validation loss.
+  double rest_weight = 0;
 };
 
 // The weights of the relative fit of points with gradients g [n, d] (normalized units), given

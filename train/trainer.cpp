@@ -90,6 +90,21 @@ NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalizati
   fill(0, n_val, job.x_val, job.y_val, job.g_val);
   fill(n_val, n, job.x_train, job.y_train, job.g_train);
 
+  if (d == 1 && data.lower[0] < 0 && data.upper[0] > 0) {
+    // The nodes nearest the rest on either side (all of them, training and validation).
+    int lo = -1, hi = -1;
+    for (int i = 0; i < n; ++i) {
+      const double s = data.strain[i];
+      if (s < 0 && (lo < 0 || s > data.strain[lo])) lo = i;
+      if (s > 0 && (hi < 0 || s < data.strain[hi])) hi = i;
+    }
+    if (lo >= 0 && hi >= 0) {
+      const double k = (data.gradient[hi] - data.gradient[lo]) / (data.strain[hi] - data.strain[lo]);
+      job.x_rest = float((0.0 - norm.center[0]) / norm.halfwidth[0]);
+      job.curvature_rest = float(k * norm.halfwidth[0] * norm.halfwidth[0] / sd);
+    }
+  }
+
   const int kv = opt.config.val_off_domain;
   job.xo_val.resize(size_t(kv) * d);
   job.no_val.resize(size_t(kv) * d);
