@@ -28,7 +28,7 @@ struct TrainOpts {
   int polish = 4000;
   double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
   bool polish_float = false;
-  double rest_weight = 0;
+  double rest_weight = 0.1;
   bool polish_keep_last = false;
 };
 
@@ -54,8 +54,9 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("--recipe", o.recipe,
                   "'default': the paper's 500 Adam epochs (lr 1e-3, batch 4 (1D) / 128 (2D), plateau "
                   "schedule, losses L_Z L_F L_C L_S), then a full-batch L-BFGS polish of up to --polish "
-                  "iterations on the data losses L_Z + w_F L_F (in double, the 1D terms weighted for a "
-                  "relative fit: --relative-fit), ending on the iterate with the lowest validation data loss (docs/training.md, \"The default recipe\"). 'paper': the paper's "
+                  "iterations on the data losses L_Z + w_F L_F (the 1D terms in double, weighted for a relative "
+                  "fit and held to the data's curvature at rest: --relative-fit, --rest-curvature), ending on "
+                  "the iterate with the lowest validation data loss (docs/training.md, \"The default recipe\"). 'paper': the paper's "
                   "recipe exactly (no polish). 'improved': lr 3e-3 and 2D batch 32, no polish (the "
                   "earlier improvement). --lr, --batch-2d and --polish override the recipe's values")
       ->check(CLI::IsMember({"default", "paper", "improved"}))
@@ -90,8 +91,9 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
       ->check(CLI::Range(0, 1 << 20))
       ->capture_default_str();
   cmd->add_option("--polish", o.polish,
-                  "Maximum L-BFGS iterations of the full-batch polish after the epochs (0: none; the "
-                  "'paper' and 'improved' recipes have none)")
+                  "Maximum L-BFGS iterations of the full-batch polish after the epochs, every term (0: none; "
+                  "the 'paper' and 'improved' recipes have none; the default recipe: 4000, and 8000 for the "
+                  "1D terms, which also hold their curvature at rest)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--polish-w-c", o.polish_wc,
@@ -116,7 +118,7 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
   cmd->add_option("--rest-curvature", o.rest_weight,
                   "W > 0: the polish holds each 1D term's curvature at rest to the data's (the central "
                   "difference of the gradients on either side of s = 0) with a penalty W (y'' - k)^2 in "
-                  "normalized units")
+                  "normalized units (the default recipe: 0.1; 0: off)")
       ->check(finite_non_negative())
       ->capture_default_str();
   cmd->add_flag("--polish-float", o.polish_float,
@@ -172,7 +174,7 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   if (given("--batch-1d")) opt.batch_1d = o.batch1;
   if (given("--batch-2d")) opt.batch_2d = o.batch2;
   if (given("--epochs")) opt.config.epochs = o.epochs;
-  if (given("--polish")) opt.polish.iterations = o.polish;
+  if (given("--polish")) opt.polish.iterations = o.polish, opt.polish.iterations_1d = -1;
   if (given("--polish-w-c")) opt.polish.w_c = o.polish_wc;
   if (given("--polish-w-s")) opt.polish.w_s = o.polish_ws;
   if (given("--polish-keep-last")) opt.polish.keep_best = false;

@@ -168,7 +168,7 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   Eigen::VectorXd x(P);
   for (int i = 0; i < P; ++i) x[i] = params[i];
   LbfgsOptions lo;
-  lo.max_iterations = opt.iterations;
+  lo.max_iterations = d == 1 && opt.iterations_1d >= 0 ? opt.iterations_1d : opt.iterations;
   lo.memory = opt.memory;
   const LbfgsResult r = lbfgs_minimize(x, fg, lo, observe);
   res.iterations = r.iterations;

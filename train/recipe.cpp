@@ -21,6 +21,8 @@ TrainerOptions recipe_options(const std::string& recipe) {
     opt.polish.w_s = 0;
     opt.polish.keep_best = true;
     opt.polish.relative_floor[0] = 0.1;  // the 1D terms' small stresses (docs/training.md, "Relative fit")
+    opt.polish.rest_weight = 0.1;        // and their curvature at rest
+    opt.polish.iterations_1d = 8000;
     return opt;
   }
   std::string names;

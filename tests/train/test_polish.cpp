@@ -155,6 +155,8 @@ TEST(Polish, RelativeFitGetsTheSmallStressesOfAStiffeningTerm) {
     TrainerOptions opt = recipe_options("default");
     opt.config.threads = 1;
     opt.polish.relative_floor[0] = floor;
+    opt.polish.rest_weight = 0;  // the weights alone (the rest curvature helps here too)
+    opt.polish.iterations_1d = -1;
     auto be = make_backend("cpu");
     const TrainResult r = train_terms(ds, "stiffening", {t.term}, opt, *be);
     EXPECT_TRUE(r.all_ok());
@@ -207,7 +209,7 @@ TEST(Polish, RestCurvaturePenaltyHoldsTheDatasCurvatureAtRest) {
     const double s0 = 0;
     return cpu::eval_network_physical(r.model.networks[0], &s0, 1, 2)[2];
   };
-  // Measured: 0.0338 without the penalty (32 % off), 0.0500 with it.
+  // Measured (4000 iterations): 0.0338 without the penalty (32 % off), 0.0500 with it.
   const double held = curvature_at_rest(0.1);
   std::printf("curvature at rest: data %.4f, with the penalty %.4f\n", k_data, held);
   EXPECT_NEAR(held, k_data, 0.05 * k_data);
