@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <type_traits>
 
 #include "core/offdomain.hpp"
 #include "core/rng.hpp"
@@ -48,6 +49,19 @@ void offdomain_grid(int d, int layers, std::vector<float>& x, std::vector<float>
 
 }  // namespace
 
+namespace {
+
+// The relative fit's weight of a point with |g|^2 = a, before normalization.
+double raw_relative_weight(double a, double g2, double floor) { return 1.0 + 1.0 / (a / g2 + floor * floor); }
+
+double squared_norm(const std::vector<float>& g, int d, size_t p) {
+  double a = 0;
+  for (int i = 0; i < d; ++i) a += double(g[p * d + i]) * g[p * d + i];
+  return a;
+}
+
+}  // namespace
+
 RelativeFitScale relative_fit_scale(const std::vector<float>& g_train, int d, double floor) {
   RelativeFitScale sc;
   const size_t n = g_train.size() / size_t(d);
@@ -56,12 +70,9 @@ RelativeFitScale relative_fit_scale(const std::vector<float>& g_train, int d, do
   for (float v : g_train) g2 += double(v) * v;
   sc.g2 = g2 / double(n);
   if (!(sc.g2 > 0)) sc.g2 = 1;  // a flat term: every weight is the same
-  sc.norm = 1;
-  const std::vector<float> w = relative_fit_weights(g_train, d, floor, sc);
   double mean = 0;
-  for (float v : w) mean += v;
-  mean /= double(n);
-  sc.norm = 1.0 / mean;
+  for (size_t p = 0; p < n; ++p) mean += raw_relative_weight(squared_norm(g_train, d, p), sc.g2, floor);
+  sc.norm = double(n) / mean;
   return sc;
 }
 
@@ -69,20 +80,33 @@ std::vector<float> relative_fit_weights(const std::vector<float>& g, int d, doub
                                         const RelativeFitScale& sc) {
   const size_t n = g.size() / size_t(d);
   std::vector<float> w(n);
-  for (size_t p = 0; p < n; ++p) {
-    double a = 0;
-    for (int i = 0; i < d; ++i) a += double(g[p * d + i]) * g[p * d + i];
-    w[p] = float(sc.norm * (1.0 + 1.0 / (a / sc.g2 + floor * floor)));
-  }
+  for (size_t p = 0; p < n; ++p) w[p] = float(sc.norm * raw_relative_weight(squared_norm(g, d, p), sc.g2, floor));
   return w;
 }
 
 namespace {
 
+// The job's float data as T: the vector itself for float, a converted copy for double;
+// nullptr when empty. Not copyable (it may point into itself).
 template <class T>
-std::vector<T> as(const std::vector<float>& v) {
-  return std::vector<T>(v.begin(), v.end());
-}
+class AsT {
+ public:
+  explicit AsT(const std::vector<float>& v) {
+    if constexpr (std::is_same_v<T, float>) {
+      p_ = v.empty() ? nullptr : v.data();
+    } else {
+      copy_.assign(v.begin(), v.end());
+      p_ = copy_.empty() ? nullptr : copy_.data();
+    }
+  }
+  AsT(const AsT&) = delete;
+  AsT& operator=(const AsT&) = delete;
+  const T* data() const { return p_; }
+
+ private:
+  std::vector<T> copy_;
+  const T* p_ = nullptr;
+};
 
 // The polish computing its losses in T (float or double; the L-BFGS state is double either way).
 template <class T>
@@ -102,15 +126,12 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
     wt_train = relative_fit_weights(job.g_train, d, floor, sc);
     wt_val = relative_fit_weights(job.g_val, d, floor, sc);
   }
-  // The data in T (copies when T is double).
-  const std::vector<T> xt = as<T>(job.x_train), yt = as<T>(job.y_train), gt = as<T>(job.g_train),
-                       xv = as<T>(job.x_val), yv = as<T>(job.y_val), gv = as<T>(job.g_val), xot = as<T>(xo),
-                       not_ = as<T>(no), xov = as<T>(job.xo_val), nov = as<T>(job.no_val),
-                       wtt = as<T>(wt_train), wtv = as<T>(wt_val);
-  auto ptr = [](const std::vector<T>& v) { return v.empty() ? nullptr : v.data(); };
-  const cpu::LossBatch<T> train{job.n_train, xt.data(), yt.data(), gt.data(), K, xot.data(), not_.data(), ptr(wtt)};
-  const cpu::LossBatch<T> val{job.n_val, xv.data(), yv.data(), gv.data(), int(xov.size()) / d, xov.data(),
-                              nov.data(), ptr(wtv)};
+  // The data in T (copies only when T is double).
+  const AsT<T> xt(job.x_train), yt(job.y_train), gt(job.g_train), xv(job.x_val), yv(job.y_val), gv(job.g_val),
+      xot(xo), not_(no), xov(job.xo_val), nov(job.no_val), wtt(wt_train), wtv(wt_val);
+  const cpu::LossBatch<T> train{job.n_train, xt.data(), yt.data(), gt.data(), K, xot.data(), not_.data(), wtt.data()};
+  const cpu::LossBatch<T> val{job.n_val, xv.data(), yv.data(), gv.data(), int(job.xo_val.size()) / d, xov.data(),
+                              nov.data(), wtv.data()};
   cpu::LossWorkspace<T> ws;
   std::vector<T> pf(P), gf(P);
   auto to_float = [&](const Eigen::VectorXd& x) {
@@ -150,7 +171,7 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
     return v.total + pen;
   };
 
-  std::vector<T> best = as<T>(params);
+  std::vector<T> best(params.begin(), params.end());
   res.val_start = res.val_end = val_loss(best);
   double best_val = res.val_start;
   const LbfgsObserver observe = [&](int k, const Eigen::VectorXd& x, double f) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/fit_metrics.hpp"
+#include "tests/common/analytic_term.hpp"
 
 using namespace yarnhom;
 
@@ -108,20 +109,7 @@ TEST(FitMetrics, DataInconsistencyOfAGrid) {
 // is 1-20 % of the largest. A network 25 % too stiff there passes the range-relative limits
 // (the basket s_x term before the relative fit) and fails this one; 2D terms are not measured.
 TEST(FitMetrics, SmallStressErrorSeesWhatTheRangeRelativeLimitsMiss) {
-  TermData d;
-  d.term = term_by_name("0");
-  d.lower = {-0.2};
-  d.upper = {1.0};
-  d.n = 121;
-  // Psi = 42 s^2 + 0.3 (exp(-s^2/0.01) - 1): dPsi 0.29 at 0.012, 84 at 1 (like basket s_x).
-  auto psi = [](double s) { return 42 * s * s + 0.3 * (std::exp(-s * s / 0.01) - 1); };
-  auto dpsi = [](double s) { return 84 * s - 60 * s * std::exp(-s * s / 0.01); };
-  for (int i = 0; i < d.n; ++i) {
-    const double s = -0.2 + 1.2 * i / (d.n - 1);
-    d.strain.push_back(s);
-    d.energy.push_back(psi(s));
-    d.gradient.push_back(dpsi(s));
-  }
+  const TermData d = test::analytic_term("0", -0.2, 1.0, 121, test::stiffening_psi, test::stiffening_dpsi);
   double gmax = 0;
   for (double g : d.gradient) gmax = std::max(gmax, std::abs(g));
   // The prediction: exact, except 25 % too stiff wherever |s| < 0.15 (the small strains).

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/synthetic.hpp"
+#include "tests/common/analytic_term.hpp"
 #include "cpu/loss_step.hpp"
 #include "cpu/network_eval.hpp"
 #include "train/lbfgs.hpp"
@@ -131,26 +132,8 @@ TEST(Polish, RelativeFitWeightsFavourSmallGradientsAndAverageOne) {
 // them within a few percent (measured on the basket data: the slope at s_x = 0.048 from +18 %
 // to -3 %; docs/training.md, "Relative fit").
 TEST(Polish, RelativeFitGetsTheSmallStressesOfAStiffeningTerm) {
-  auto psi = [](double s) { return 42 * s * s + 0.3 * (std::exp(-s * s / 0.01) - 1); };
-  auto dpsi = [](double s) { return 84 * s - 60 * s * std::exp(-s * s / 0.01); };
-  Dataset ds;
-  ds.pattern = "stiffening";
-  ds.source = "synthetic";
-  TermData t;
-  t.term = term_by_name("0");
-  t.lower = {-0.2};
-  t.upper = {1.0};
-  t.n = 121;
-  for (int i = 0; i < t.n; ++i) {
-    const double s = -0.2 + 1.2 * i / (t.n - 1);
-    // Psi = 42 s^2 + 0.3 (exp(-s^2 / 0.01) - 1): curvature 24 at rest rising to 84 past
-    // |s| = 0.2 (the basket's s_x term within 10 %: dPsi/ds 0.29 at 0.012, 2.5 at 0.06, 84 at 1).
-    t.strain.push_back(s);
-    t.energy.push_back(psi(s));
-    t.gradient.push_back(dpsi(s));
-    t.raw.push_back(t.energy.back());
-  }
-  ds.terms.push_back(t);
+  const TermData t = test::analytic_term("0", -0.2, 1.0, 121, test::stiffening_psi, test::stiffening_dpsi);
+  const Dataset ds = test::analytic_dataset(t);
   auto small_stress_error = [&](double floor) {
     TrainerOptions opt = recipe_options("default");
     opt.config.threads = 1;
@@ -158,12 +141,12 @@ TEST(Polish, RelativeFitGetsTheSmallStressesOfAStiffeningTerm) {
     opt.polish.rest_weight = 0;  // the weights alone (the rest curvature helps here too)
     opt.polish.iterations_1d = -1;
     auto be = make_backend("cpu");
-    const TrainResult r = train_terms(ds, "stiffening", {t.term}, opt, *be);
+    const TrainResult r = train_terms(ds, "analytic", {t.term}, opt, *be);
     EXPECT_TRUE(r.all_ok());
     double worst = 0;
     for (double s : {-0.08, -0.05, -0.03, 0.03, 0.05, 0.08}) {
       const std::vector<double> jet = cpu::eval_network_physical(r.model.networks[0], &s, 1, 1);
-      const double exact = dpsi(s);
+      const double exact = test::stiffening_dpsi(s);
       worst = std::max(worst, std::abs(jet[1] - exact) / std::abs(exact));
     }
     return worst;
@@ -180,31 +163,19 @@ TEST(Polish, RelativeFitGetsTheSmallStressesOfAStiffeningTerm) {
 // s = 0 equals the data's central difference there (basket s_a: -0.09 against the data's +0.05
 // without it, an unstable rest; docs/training.md, "Relative fit").
 TEST(Polish, RestCurvaturePenaltyHoldsTheDatasCurvatureAtRest) {
-  Dataset ds;
-  ds.pattern = "soft";
-  ds.source = "synthetic";
-  TermData t;
-  t.term = term_by_name("1");
-  t.lower = {-0.7};
-  t.upper = {0.7};
-  t.n = 101;
   // Psi = 0.025 s^2 + 30 s^8: nearly flat at rest (curvature 0.05), 60 N/m at the box's ends,
   // like basket's s_a term.
-  for (int i = 0; i < t.n; ++i) {
-    const double s = -0.7 + 1.4 * i / (t.n - 1);
-    t.strain.push_back(s);
-    t.energy.push_back(0.025 * s * s + 30 * std::pow(s, 8));
-    t.gradient.push_back(0.05 * s + 240 * std::pow(s, 7));
-    t.raw.push_back(t.energy.back());
-  }
-  ds.terms.push_back(t);
+  const TermData t = test::analytic_term(
+      "1", -0.7, 0.7, 101, [](double s) { return 0.025 * s * s + 30 * std::pow(s, 8); },
+      [](double s) { return 0.05 * s + 240 * std::pow(s, 7); });
+  const Dataset ds = test::analytic_dataset(t);
   const double h = 0.014, k_data = (0.05 * h + 240 * std::pow(h, 7)) / h;  // the central difference
   auto curvature_at_rest = [&](double w) {
     TrainerOptions opt = recipe_options("default");
     opt.config.threads = 1;
     opt.polish.rest_weight = w;
     auto be = make_backend("cpu");
-    const TrainResult r = train_terms(ds, "soft", {t.term}, opt, *be);
+    const TrainResult r = train_terms(ds, "analytic", {t.term}, opt, *be);
     EXPECT_TRUE(r.all_ok());
     const double s0 = 0;
     return cpu::eval_network_physical(r.model.networks[0], &s0, 1, 2)[2];
