@@ -202,7 +202,12 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   std::fprintf(stderr, "training %zu network(s) on %s (%s data) with backend %s, %d thread(s), recipe %s: %d epochs%s\n",
                terms.size(), o.dataset.c_str(), ds.source.c_str(), backend->name().c_str(), opt.config.threads,
                o.recipe.c_str(), o.epochs,
-               o.polish > 0 ? (", then up to " + std::to_string(o.polish) + " L-BFGS iterations (CPU)").c_str() : "");
+               o.polish > 0 ? (", then up to " + std::to_string(o.polish) + " L-BFGS iterations" +
+                               (opt.polish.iterations_1d >= 0 && opt.polish.iterations_1d != o.polish
+                                    ? " (" + std::to_string(opt.polish.iterations_1d) + " for the 1D terms)"
+                                    : std::string()) +
+                               " (CPU)").c_str()
+                            : "");
   Progress progress(o.quiet, terms.size());
   const double t0 = omp_get_wtime();
   TrainResult res = train_terms(ds, o.dataset, terms, opt, *backend, std::ref(progress));
