@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/scaled_eigen.hpp"
+
 namespace yarnhom {
 
 namespace {
@@ -43,14 +45,23 @@ RestCheck check_rest(const BakedMaterial& mat, double tolerance) {
   const MaterialEval e = eval_material(mat, Strain6::Zero());
   r.grad = e.grad;
   r.hess = 0.5 * (e.hess + e.hess.transpose());
-  Strain6 d;
-  for (int i = 0; i < 6; ++i) d[i] = std::abs(r.hess(i, i)) > 0 ? 1 / std::sqrt(std::abs(r.hess(i, i))) : 1.0;
-  const Eigen::Matrix<double, 6, 6> scaled = d.asDiagonal() * r.hess * d.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(scaled);
-  r.scaled_eigenvalues = es.eigenvalues();
-  r.weakest = es.eigenvectors().col(0);
+  const ScaledEigen se = scaled_eigen(r.hess);
+  r.scaled_eigenvalues = se.values;
+  r.weakest = se.weakest;
   r.stable = r.scaled_eigenvalues[0] >= -tolerance;
   return r;
+}
+
+std::string rve_rest_note(const std::vector<double>& rest_hessian) {
+  if (rest_hessian.size() != 36) return "";
+  Eigen::Matrix<double, 6, 6> H;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) H(i, j) = rest_hessian[i * 6 + j];
+  const double e = scaled_eigen(H).values[0];
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; the RVE's own rest (measured by produce): %s, smallest scaled eigenvalue %.3g",
+                e >= -1e-9 ? "stable" : "UNSTABLE", e);
+  return buf;
 }
 
 }  // namespace yarnhom

@@ -10,10 +10,10 @@
 // J/m^2 at s_a = 0 against the data's +0.05; its continuum strip shears to s_a = -0.09 at rest,
 // docs/accuracy.md, fourth run). This check sees that.
 //
-// Definiteness is judged on the Hessian scaled to unit diagonal magnitude,
-// D H D with D = diag(1 / sqrt(|H_ii|)), because strains and curvatures have different units
-// (a diagonal congruence keeps the signs of the eigenvalues).
+// Definiteness is judged on the Hessian scaled to unit diagonal magnitude (core/scaled_eigen.hpp),
+// as the RVE's own rest Hessian is (yarn/rest_hessian.hpp, the dataset's /rest hessian).
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -31,5 +31,11 @@ struct RestCheck {
 };
 
 RestCheck check_rest(const BakedMaterial& mat, double tolerance = 1e-9);
+
+// What the RVE itself says, for the line beside the material's: "; the RVE's own rest ..." from a
+// dataset's measured rest Hessian ([36], Dataset::rest_hessian; yarn/rest_hessian.hpp), or ""
+// when it has none. A material that is unstable where the RVE is stable is a fit error; one that
+// follows an unstable RVE is the pattern's physics.
+std::string rve_rest_note(const std::vector<double>& rest_hessian);
 
 }  // namespace yarnhom

@@ -36,6 +36,12 @@ void validate_dataset(const Dataset& ds, const std::string& file) {
   optional_attr(ds.lattice_original, 4, "lattice_original");
   optional_attr(ds.lattice_relaxed, 4, "lattice_relaxed");
   optional_attr(ds.grad0, 6, "grad0");
+  optional_attr(ds.rest_hessian, 36, "hessian");
+  for (int i = 0; i < 6 && ds.rest_hessian.size() == 36; ++i)
+    for (int j = 0; j < i; ++j)
+      if (ds.rest_hessian[i * 6 + j] != ds.rest_hessian[j * 6 + i])
+        throw FileError(file, "/rest", "attribute hessian is not symmetric (entries " + std::to_string(i * 6 + j) +
+                                           " and " + std::to_string(j * 6 + i) + ")");
   if (!std::isnan(ds.areal_density) && !(ds.areal_density > 0 && std::isfinite(ds.areal_density)))
     throw FileError(file, "/", "areal_density must be positive and finite (absent when unknown)");
   for (const TermData& t : ds.terms) {
@@ -81,6 +87,7 @@ Dataset read_dataset(const std::string& path) {
   if (rest.has_attr("lattice_original")) ds.lattice_original = rest.attr_doubles("lattice_original");
   if (rest.has_attr("lattice_relaxed")) ds.lattice_relaxed = rest.attr_doubles("lattice_relaxed");
   if (rest.has_attr("grad0")) ds.grad0 = rest.attr_doubles("grad0");
+  if (rest.has_attr("hessian")) ds.rest_hessian = rest.attr_doubles("hessian");
   if (rest.has("q")) {
     ds.rest_q = rest.read_double("q", {-1}).data;
     check_finite(ds.rest_q, path, "/rest/q");
@@ -143,6 +150,7 @@ void write_dataset(const std::string& path, const Dataset& ds) {
     if (!ds.lattice_original.empty()) rest.set_attr("lattice_original", ds.lattice_original);
     if (!ds.lattice_relaxed.empty()) rest.set_attr("lattice_relaxed", ds.lattice_relaxed);
     if (!ds.grad0.empty()) rest.set_attr("grad0", ds.grad0);
+    if (!ds.rest_hessian.empty()) rest.set_attr("hessian", ds.rest_hessian);
     rest.write("q", ds.rest_q, {ds.rest_q.size()});
     h5::Node terms = root.create_group("terms");
     for (const TermData& t : ds.terms) {

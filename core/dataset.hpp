@@ -5,7 +5,9 @@
 //                                 [areal_density (kg/m^2 of the reference tile)]
 //   /rest                  attrs: psi0 (J/m^2), [lattice_original[4], lattice_relaxed[4]
 //                                 (m; rows: the tile's two lattice vectors), grad0[6] (dPsi/ds
-//                                 at s = 0)]; datasets: q (rest solution)
+//                                 at s = 0), hessian[36] (d2Psi/ds2 at s = 0, row-major,
+//                                 measured on the RVE: yarn/rest_hessian.hpp)]; datasets: q
+//                                 (rest solution)
 //   /terms/<name>/strain   float64 [N, d]
 //   /terms/<name>/energy   float64 [N]
 //   /terms/<name>/gradient float64 [N, d]
@@ -43,6 +45,8 @@ struct Dataset {
   std::vector<double> lattice_relaxed;   // [2, 2]: the reference tile's (s = 0 is measured there)
   std::vector<double> grad0;             // [6] dPsi/ds at s = 0: ~0 in-plane (stress-free rest),
                                          // the natural bending moment dPsi/dII (J/m)
+  std::vector<double> rest_hessian;      // [6, 6] row-major d2Psi/ds2 at s = 0, symmetric; what
+                                         // the training holds the networks' curvatures at rest to
   double areal_density = NAN;            // kg/m^2 of the reference tile; NaN: unknown
 
   const TermData* find(const std::string& name) const;

@@ -75,9 +75,11 @@ void register_bake(CLI::App& app) {
     bool known = false;
     const std::string data = o->data.empty() ? find_dataset(o->model, model.dataset) : o->data;
     double areal_density = model.areal_density;
+    std::string rve_rest;
     if (!data.empty()) {
       check_output_file(o->out, {data});
       const Dataset ds = read_dataset(data);
+      rve_rest = rve_rest_note(ds.rest_hessian);
       psi0 = ds.psi0;
       known = true;
       if (std::isnan(areal_density)) areal_density = ds.areal_density;  // a model trained before it was copied
@@ -117,7 +119,8 @@ void register_bake(CLI::App& app) {
       std::string missing;
       const BakedMaterial mat = make_baked_material(baked, o->out, &missing);
       const RestCheck rc = check_rest(mat);
-      std::printf("%s%s\n", rc.summary().c_str(), missing.empty() ? "" : (" (terms absent: " + missing + ")").c_str());
+      std::printf("%s%s%s\n", rc.summary().c_str(), missing.empty() ? "" : (" (terms absent: " + missing + ")").c_str(),
+                  rve_rest.c_str());
     }
     std::printf("baked %zu terms (1D %d knots, 2D %dx%d) in %.2fs -> %s%s\n", baked.tables.size(), o->res1d, o->res2d,
                 o->res2d, bake_s, o->out.c_str(), known ? "" : " (Psi0 unknown)");

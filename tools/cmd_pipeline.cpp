@@ -208,7 +208,7 @@ void register_pipeline(CLI::App& app) {
       // above are relative to whole ranges and do not see the small strains near rest.)
       std::string missing;
       const BakedMaterial mat = make_baked_material(read_baked(baked), baked, &missing);
-      std::printf("  %s\n", check_rest(mat).summary().c_str());
+      std::printf("  %s%s\n", check_rest(mat).summary().c_str(), rve_rest_note(read_dataset(ds).rest_hessian).c_str());
     }
     for (const auto& [name, secs] : times) std::printf("  %s: %s\n", name.c_str(), format_seconds(secs).c_str());
     std::printf("  total %s\n", format_seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_all).count()).c_str());

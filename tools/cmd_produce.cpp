@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/scaled_eigen.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "tools/cli_util.hpp"
@@ -126,6 +127,19 @@ void run(const ProduceOpts& o) {
               ds.lattice_relaxed[2], ds.lattice_relaxed[3], ds.areal_density);
   std::printf("at rest     dPsi/ds %.3g %.3g %.3g (in-plane), dPsi/dII %.6g %.6g %.6g J/m (natural bending moment)\n",
               ds.grad0[0], ds.grad0[1], ds.grad0[2], ds.grad0[3], ds.grad0[4], ds.grad0[5]);
+ {
+    const yarn::RestHessian& h = rep.rest_hessian;
+    if (h.ok) {
+      const ScaledEigen se = scaled_eigen(h.H);
+      std::printf("rest Hessian d2Psi/ds2 diagonal %.4g %.4g %.4g (in-plane) %.4g %.4g %.4g (bending); %s, smallest "
+                  "scaled eigenvalue %.3g; asymmetry %.1e (%d solves, %.2f s)\n",
+                  h.H(0, 0), h.H(1, 1), h.H(2, 2), h.H(3, 3), h.H(4, 4), h.H(5, 5),
+                  se.values[0] >= 0 ? "stable" : "UNSTABLE", se.values[0], h.asymmetry, h.solves, h.seconds);
+    } else {
+      std::fprintf(stderr, "yarnhom: warning: the rest Hessian was not measured (%s); the dataset has none and the "
+                           "training falls back to the grid's curvature at rest\n", h.failure.c_str());
+    }
+  }
   if (rep.resumed)
     std::printf("resumed     %d samples with their equilibrium states from %s%s\n", rep.resumed, opt.checkpoint.c_str(),
                 rep.checkpoint_dropped_bytes ? (" (its last record, cut by the kill: " + std::to_string(rep.checkpoint_dropped_bytes) +

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <memory>
 
+#include "core/scaled_eigen.hpp"
+#include "yarn/rest_hessian.hpp"
 #include "tools/cli_util.hpp"
 #include "tools/commands.hpp"
 #include "yarn/energy_density.hpp"
@@ -20,7 +22,7 @@ namespace {
 
 struct RveOpts {
   std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify, tile = "1,1";
-  bool json = false, verbose = false, fixed_period = false, no_ccd = false;
+  bool json = false, verbose = false, fixed_period = false, no_ccd = false, rest_hessian = false;
   double tolerance = 1e-10, time_limit = 300;
   int max_iterations = 500;
 };
@@ -134,6 +136,12 @@ void run(const RveOpts& o) {
     }
   }
   const yarn::DensityResult at_rest = yarn::evaluate_density(*rve, yarn::Strain::Zero(), st);
+  yarn::RestHessian rh;
+  if (o.rest_hessian) {
+    if (!relaxed) throw std::invalid_argument("--rest-hessian needs the rest relaxation: drop --start");
+    rh = yarn::rest_hessian(*rve, st, opt);
+    if (!rh.ok) throw std::runtime_error("--rest-hessian: " + rh.failure);
+  }
   const yarn::DensityResult r = yarn::energy_density(*rve, s, st, opt);
   if (!o.out.empty()) yarn::write_state(o.out, *rve, s, st, r);
   if (!o.obj.empty()) yarn::write_obj(o.obj, *rve, s, st);
@@ -156,7 +164,7 @@ void run(const RveOpts& o) {
         "\"converged\":%s,\"status\":\"%s\",\"energy\":%s,\"rest_iterations\":%d,"
         "\"rest_period_updates\":%d,\"psi0\":%s,\"rest_grad\":%s,\"lattice_original\":%s,"
         "\"lattice_relaxed\":%s,\"reference_strain\":%s,\"areal_density\":%s,\"certificate_valid\":%s,"
-        "\"min_separation\":%s,\"d_min\":%s,\"barrier_energy\":%s}\n",
+        "\"min_separation\":%s,\"d_min\":%s,\"barrier_energy\":%s%s}\n",
         pattern.name.c_str(), json_number(r.psi).c_str(), g.c_str(), r.report.iterations,
         json_number(r.report.residual).c_str(), json_number(r.report.seconds).c_str(),
         r.report.converged() ? "true" : "false", yarn::to_string(r.report.status),
@@ -165,7 +173,11 @@ void run(const RveOpts& o) {
         lattice(L).c_str(), vec(yarn::in_plane_strain(rve->reference()).data(), 3).c_str(),
         json_number(yarn::areal_density(*rve)).c_str(), st.certificate.valid ? "true" : "false",
         json_number(st.certificate.min_distance / (2 * rve->radius())).c_str(),
-        json_number(rve->min_separation() / (2 * rve->radius())).c_str(), json_number(r.parts.barrier).c_str());
+        json_number(rve->min_separation() / (2 * rve->radius())).c_str(), json_number(r.parts.barrier).c_str(),
+        o.rest_hessian ? (",\"rest_hessian\":" + vec(rh.H.data(), 36) + ",\"rest_hessian_smallest_scaled_eigenvalue\":" +
+                          json_number(scaled_eigen(rh.H).values[0]) + ",\"rest_hessian_asymmetry\":" +
+                          json_number(rh.asymmetry)).c_str()
+                       : "");
   } else {
     std::printf("pattern     %s (%d vertices, %zu yarns, %d unknowns)\n", pattern.name.c_str(),
                 pattern.size(), rve->topo().yarns.size(), rve->num_dofs());
@@ -176,6 +188,18 @@ void run(const RveOpts& o) {
     std::printf("at rest     Psi0 %.10g J/m^2, dPsi/ds %.4g %.4g %.4g, dPsi/dII %.6g %.6g %.6g J/m\n",
                 at_rest.psi, at_rest.grad[0], at_rest.grad[1], at_rest.grad[2], at_rest.grad[3], at_rest.grad[4],
                 at_rest.grad[5]);
+    if (o.rest_hessian) {
+      const ScaledEigen se = scaled_eigen(rh.H);
+      std::printf("rest Hessian d2Psi/ds2 at s = 0 (rows and columns s_x s_a s_y II_x II_a II_y; %d solves, steps %.3g "
+                  "and %.3g 1/m, asymmetry %.1e):\n", rh.solves, rh.step[0], rh.step[3], rh.asymmetry);
+      for (int i = 0; i < 6; ++i) {
+        std::printf("           ");
+        for (int j = 0; j < 6; ++j) std::printf(" %12.5g", rh.H(i, j));
+        std::printf("\n");
+      }
+      std::printf("            %s: smallest scaled eigenvalue %.3g\n", se.values[0] >= 0 ? "stable" : "UNSTABLE",
+                  se.values[0]);
+    }
     std::printf("density     %.6g kg/m^2 (yarn %.6g kg/m^3)\n", yarn::areal_density(*rve), mat.density);
     std::printf("strain      s_x %g  s_a %g  s_y %g  II_x %g  II_a %g  II_y %g (1/m)\n", s[0], s[1], s[2], s[3], s[4], s[5]);
     std::printf("solve       %s\n", r.report.summary().c_str());
@@ -256,6 +280,10 @@ void register_rve(CLI::App& app) {
                 "Do not shorten Newton steps by collision detection (for comparison only: yarns may pass through "
                 "each other; the certificate then says so)");
   cmd->add_flag("--verbose", o->verbose, "One line per Newton iteration on stderr");
+  cmd->add_flag("--rest-hessian", o->rest_hessian,
+                "Also measure d2Psi/ds2 at s = 0 (6 x 6, central differences of dPsi/ds from 12 small solves around "
+                "the relaxed rest; what produce stores in the dataset and the training holds the networks to, "
+                "yarn/rest_hessian.hpp) and say whether the rest is stable");
   cmd->callback([o] { run(*o); });
 }
 

@@ -28,7 +28,7 @@ struct TrainOpts {
   int polish = 4000;
   double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
   bool polish_float = false;
-  double rest_weight = 0.1;
+  double rest_weight = 0.1, rest_mixed = 0;
   bool polish_keep_last = false;
 };
 
@@ -116,9 +116,16 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
       ->check(finite_non_negative())
       ->capture_default_str();
   cmd->add_option("--rest-curvature", o.rest_weight,
-                  "W > 0: the polish holds each 1D term's curvature at rest to the data's (the central "
-                  "difference of the gradients on either side of s = 0) with a penalty W (y'' - k)^2 in "
-                  "normalized units (the default recipe: 0.1; 0: off)")
+                  "W > 0: the polish holds each 1D term's curvature at rest to the data's with a penalty "
+                  "W (y'' - k)^2 in normalized units: k is the dataset's measured rest Hessian (produce, "
+                  "yarn/rest_hessian.hpp), or for datasets without one the central difference of the "
+                  "gradients on either side of s = 0 (the default recipe: 0.1; 0: off)")
+      ->check(finite_non_negative())
+      ->capture_default_str();
+  cmd->add_option("--rest-mixed", o.rest_mixed,
+                  "W > 0: the same for each 2D term's mixed derivative at rest, held to the measured rest "
+                  "Hessian's (datasets that have one; off by default: it costs the shear-bending couplings' "
+                  "fit, docs/training.md \"Rest Hessian\")")
       ->check(finite_non_negative())
       ->capture_default_str();
   cmd->add_flag("--polish-float", o.polish_float,
@@ -181,6 +188,7 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
   if (given("--relative-fit")) opt.polish.relative_floor[0] = o.relative;
   if (given("--relative-fit-2d")) opt.polish.relative_floor[1] = o.relative_2d;
   if (given("--rest-curvature")) opt.polish.rest_weight = o.rest_weight;
+  if (given("--rest-mixed")) opt.polish.rest_weight_2d = o.rest_mixed;
   if (given("--polish-float")) opt.polish.in_double[0] = opt.polish.in_double[1] = false;
   o.epochs = opt.config.epochs;
   o.polish = opt.polish.iterations;

@@ -141,20 +141,30 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   cpu::LossOptions loss = cfg.loss;
   if (opt.w_c >= 0) loss.w.c = opt.w_c;
   if (opt.w_s >= 0) loss.w.s = opt.w_s;
-  // The rest curvature penalty (1D terms): the jet at x_rest to second order.
-  const bool rest = opt.rest_weight > 0 && d == 1 && std::isfinite(job.x_rest) && std::isfinite(job.curvature_rest);
+  // The rest curvature penalty: the jet at x_rest to second order, its second-order channels
+  // against NetworkJob::curvature_rest (those that are known).
+  const int c2 = jet_first(d, 2), n2 = jet_num_pairs(d);
+  const double rest_w = d == 1 ? opt.rest_weight : opt.rest_weight_2d;
+  bool rest = rest_w > 0;
+  for (int k = 0; k < d; ++k) rest = rest && std::isfinite(job.x_rest[k]);
+  bool any = false;
+  for (int c = 0; c < n2; ++c) any = any || std::isfinite(job.curvature_rest[c]);
+  rest = rest && any;
   cpu::JetWorkspace<T> rws;
   auto rest_penalty = [&](const std::vector<T>& p, T* grad) -> double {
     if (!rest) return 0.0;
-    const T xr = T(job.x_rest);
-    T jet[3], dj[3] = {0, 0, 0};
-    cpu::mlp_jet_forward<T>(job.desc, p.data(), &xr, 1, 2, jet, rws);
-    const double r = double(jet[2]) - double(job.curvature_rest);
-    if (grad) {
-      dj[2] = T(2 * opt.rest_weight * r);
-      cpu::mlp_jet_backward<T>(job.desc, p.data(), &xr, 1, 2, dj, grad, rws);
+    const T xr[2] = {T(job.x_rest[0]), T(job.x_rest[d - 1])};
+    T jet[kMaxJetChannels], dj[kMaxJetChannels] = {};
+    cpu::mlp_jet_forward<T>(job.desc, p.data(), xr, 1, 2, jet, rws);
+    double pen = 0;
+    for (int c = 0; c < n2; ++c) {
+      if (!std::isfinite(job.curvature_rest[c])) continue;
+      const double r = double(jet[c2 + c]) - double(job.curvature_rest[c]);
+      dj[c2 + c] = T(2 * rest_w * r);
+      pen += rest_w * r * r;
     }
-    return opt.rest_weight * r * r;
+    if (grad) cpu::mlp_jet_backward<T>(job.desc, p.data(), xr, 1, 2, dj, grad, rws);
+    return pen;
   };
   // Which iterate to keep is judged by the data terms on the validation points: the fit
   // the model is for. (The validation L_S, at other off-domain points than the polish's,

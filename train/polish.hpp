@@ -46,10 +46,17 @@ struct PolishOptions {
   // 3 % in double. The 2D terms' polishes run their 4000 iterations in float and cost 2x in
   // double (docs/training.md, "Relative fit").
   bool in_double[2] = {true, false};
-  // > 0: the 1D terms' curvature at rest is held to the data's (NetworkJob::curvature_rest) by
-  // a penalty rest_weight (y''(x_rest) - k)^2 in normalized units, added to the polish's loss
-  // and its validation loss.
+  // > 0: the second derivatives at rest are held to NetworkJob::curvature_rest (the dataset's
+  // measured rest Hessian: 1D H_ii, 2D f_xy = H_ij; without one, the 1D terms' grid curvature)
+  // by a penalty rest_weight * sum_c (y_c(x_rest) - k_c)^2 over the second-order jet channels,
+  // in normalized units, added to the polish's loss and its validation loss.
   double rest_weight = 0;
+  // The same for the 2D terms' mixed derivative f_xy at rest (only from a measured rest Hessian).
+  // Off by default: measured on the paper datasets, it holds the couplings' f_xy at the origin
+  // but costs the shear-bending couplings' fit (basket 13: gradient error 28 -> 54 %), whose
+  // data have a ridge at II = 0 (docs/training.md, "Rest Hessian"); their rest was stable
+  // without it.
+  double rest_weight_2d = 0;
 };
 
 // The weights of the relative fit of points with gradients g [n, d] (normalized units), given

@@ -41,7 +41,8 @@ std::vector<float> init_params(const NetworkDesc& desc, uint64_t key) {
 
 }  // namespace
 
-NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm_out) {
+NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm_out,
+                    const std::vector<double>* rest_hessian) {
   const int d = data.dim(), n = data.n;
   NetworkJob job;
   job.name = data.term.name;
@@ -90,18 +91,33 @@ NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalizati
   fill(0, n_val, job.x_val, job.y_val, job.g_val);
   fill(n_val, n, job.x_train, job.y_train, job.g_train);
 
-  if (d == 1 && data.lower[0] < 0 && data.upper[0] > 0) {
-    // The nodes nearest the rest on either side (all of them, training and validation).
-    int lo = -1, hi = -1;
-    for (int i = 0; i < n; ++i) {
-      const double s = data.strain[i];
-      if (s < 0 && (lo < 0 || s > data.strain[lo])) lo = i;
-      if (s > 0 && (hi < 0 || s < data.strain[hi])) hi = i;
-    }
-    if (lo >= 0 && hi >= 0) {
-      const double k = (data.gradient[hi] - data.gradient[lo]) / (data.strain[hi] - data.strain[lo]);
-      job.x_rest = float((0.0 - norm.center[0]) / norm.halfwidth[0]);
-      job.curvature_rest = float(k * norm.halfwidth[0] * norm.halfwidth[0] / sd);
+  bool inside = true;
+  for (int k = 0; k < d; ++k) inside = inside && data.lower[k] < 0 && data.upper[k] > 0;
+  if (inside) {
+    for (int k = 0; k < d; ++k) job.x_rest[k] = float((0.0 - norm.center[k]) / norm.halfwidth[k]);
+    // A second derivative in strain units to normalized ones.
+    auto normalized = [&](double h, int a, int b) { return float(h * norm.halfwidth[a] * norm.halfwidth[b] / sd); };
+    if (rest_hessian && rest_hessian->size() == 36) {
+      const int i = data.term.indices[0], j = data.term.indices[d - 1];
+      if (d == 1) {
+        job.curvature_rest[0] = normalized((*rest_hessian)[i * 6 + i], 0, 0);
+      } else {
+        // Only the mixed one: the material takes a 2D network's axis projection
+        // N(a,b) - N(a,0) - N(0,b) + N(0,0) (bake/term_function.hpp), whose f_aa and f_bb at the
+        // origin are 0 whatever N is, and whose f_ab is N's.
+        job.curvature_rest[1] = normalized((*rest_hessian)[i * 6 + j], 0, 1);
+      }
+    } else if (d == 1) {
+      // The nodes nearest the rest on either side (all of them, training and validation).
+      int lo = -1, hi = -1;
+      for (int i = 0; i < n; ++i) {
+        const double s = data.strain[i];
+        if (s < 0 && (lo < 0 || s > data.strain[lo])) lo = i;
+        if (s > 0 && (hi < 0 || s < data.strain[hi])) hi = i;
+      }
+      if (lo >= 0 && hi >= 0)
+        job.curvature_rest[0] =
+            normalized((data.gradient[hi] - data.gradient[lo]) / (data.strain[hi] - data.strain[lo]), 0, 0);
     }
   }
 
@@ -125,7 +141,7 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
     const TermData* td = ds.find(t.name);
     if (!td) throw std::invalid_argument(dataset_path + ": the dataset has no term '" + t.name + "'");
     Normalization norm;
-    jobs.push_back(make_job(*td, opt, &norm));
+    jobs.push_back(make_job(*td, opt, &norm, &ds.rest_hessian));
     norms.push_back(norm);
     datas.push_back(td);
   }

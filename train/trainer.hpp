@@ -50,8 +50,11 @@ struct TrainResult {
   bool all_ok() const;
 };
 
-// The problem of one term: exposed for tests and for the reference checks.
-NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm);
+// The problem of one term: exposed for tests and for the reference checks. rest_hessian: the
+// dataset's measured d2Psi/ds2 at s = 0 ([36] row-major, Dataset::rest_hessian), or null /
+// empty when it has none (NetworkJob::curvature_rest says what is held then).
+NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalization* norm,
+                    const std::vector<double>* rest_hessian = nullptr);
 
 TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
                         const std::vector<Term>& terms, const TrainerOptions& opt,

@@ -133,6 +133,10 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
     throw std::runtime_error("produce: pattern '" + pattern.name + "': " + summary(rest.certificate, 2 * pattern.radius));
   rep.min_separation = rest.certificate.min_distance;
   const DensityResult r0 = evaluate_density(rve, Strain::Zero(), rest);
+  // The curvature of Psi at rest, which the grid does not resolve (yarn/rest_hessian.hpp): 12
+  // small solves from the rest state, measured again on a resumed run (it is cheap and
+  // deterministic).
+  rep.rest_hessian = rest_hessian(rve, rest, opt.solve);
 
   // Nodes of every term.
   std::vector<Node> nodes;
@@ -614,6 +618,11 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   ds.lattice_original = {pattern.px, 0.0, 0.0, pattern.py};
   ds.lattice_relaxed = {L(0, 0), L(1, 0), L(0, 1), L(1, 1)};
   ds.grad0.assign(r0.grad.data(), r0.grad.data() + 6);
+  if (rep.rest_hessian.ok) {
+    ds.rest_hessian.resize(36);
+    for (int i = 0; i < 6; ++i)
+      for (int j = 0; j < 6; ++j) ds.rest_hessian[i * 6 + j] = rep.rest_hessian.H(i, j);
+  }
   ds.areal_density = areal_density(rve);
   {
     std::ostringstream note;

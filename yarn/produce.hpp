@@ -13,6 +13,7 @@
 #include "core/terms.hpp"
 #include "yarn/newton.hpp"
 #include "yarn/rest.hpp"
+#include "yarn/rest_hessian.hpp"
 #include "yarn/sampling.hpp"
 
 namespace yarnhom::yarn {
@@ -72,6 +73,7 @@ struct Failure {
 };
 struct ProduceReport {
   RestReport rest;
+  RestHessian rest_hessian;        // d2Psi/ds2 at s = 0, measured on the RVE (in the dataset when ok)
   std::vector<TermSummary> terms;
   std::vector<Failure> failures;   // nodes that did not converge warm, nor cold: not in the dataset
                                    // (status "topology_refused": converged, but along a path that

@@ -59,3 +59,15 @@ TEST(RestCheck, NegativeShearCurvatureOrAStrongCouplingIsUnstable) {
   EXPECT_NEAR(b.scaled_eigenvalues[0], 1.0 - 1.5, 1e-9);
   EXPECT_NE(b.summary().find("mostly s_x, s_y)"), std::string::npos) << b.summary();
 }
+
+// The RVE's own rest, from a dataset's measured rest Hessian, beside the material's.
+TEST(RestCheck, RveRestNoteJudgesTheMeasuredHessianAlike) {
+  EXPECT_EQ(rve_rest_note({}), "");
+  std::vector<double> H(36, 0.0);
+  for (int i = 0; i < 6; ++i) H[i * 7] = i < 3 ? 20.0 : 1e-7;  // strains and curvatures: other units
+  H[0 * 6 + 3] = H[3 * 6 + 0] = -1e-3;                         // scaled coupling 1e-3 / sqrt(2e-6) = 0.71
+  const std::string stable = rve_rest_note(H);
+  EXPECT_NE(stable.find("stable, smallest scaled eigenvalue 0.293"), std::string::npos) << stable;
+  H[0 * 6 + 3] = H[3 * 6 + 0] = -2e-3;  // 1.41: a negative direction
+  EXPECT_NE(rve_rest_note(H).find("UNSTABLE"), std::string::npos) << rve_rest_note(H);
+}

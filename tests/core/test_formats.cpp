@@ -110,6 +110,25 @@ TEST(DatasetFile, RestAdditionsAreOptionalAndRoundTrip) {
   a.grad0.pop_back();
   EXPECT_THROW(write_dataset(t / "e.h5", a), FileError);
   a.grad0.push_back(0);
+  // The rest Hessian: 36 entries, symmetric; round trip, and a non-symmetric one is refused
+  // with the object and the entries named.
+  EXPECT_TRUE(b.rest_hessian.empty());
+  a.rest_hessian.assign(36, 0.0);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) a.rest_hessian[i * 6 + j] = (i == j ? 10.0 + i : 0.1 * (i + j));
+  write_dataset(t / "h.h5", a);
+  EXPECT_EQ(read_dataset(t / "h.h5").rest_hessian, a.rest_hessian);
+  a.rest_hessian[1] += 1e-3;
+  try {
+    write_dataset(t / "e.h5", a);
+    FAIL() << "accepted a non-symmetric rest Hessian";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("/rest"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not symmetric"), std::string::npos) << e.what();
+  }
+  a.rest_hessian.resize(35);
+  EXPECT_THROW(write_dataset(t / "e.h5", a), FileError);
+  a.rest_hessian.clear();
   a.areal_density = -1;
   try {
     write_dataset(t / "e.h5", a);

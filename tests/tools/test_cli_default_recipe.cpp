@@ -14,6 +14,7 @@
 
 #include "bake/baked_eval.hpp"
 #include "bake/pair_check.hpp"
+#include "bake/rest_check.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/fit_metrics.hpp"
@@ -126,6 +127,16 @@ TEST(DefaultRecipe, FitsStocktinyAndItsBakedModelTotalRisesOutwardAlongEveryRay)
   r = test::run_cli("bake " + d + "/m.h5 -o " + d + "/b.h5 --no-check");
   ASSERT_EQ(r.status, 0) << r.out;
   const BakedModel b = read_baked(d + "/b.h5");
+  {
+    // The dataset carries the RVE's measured rest Hessian and the material's 1D curvatures at
+    // rest equal it (the grid's 9 x 9 nodes do not resolve them); its rest is stable.
+    const Dataset ds = read_dataset(d + "/ds.h5");
+    ASSERT_EQ(ds.rest_hessian.size(), 36u);
+    const RestCheck rc = check_rest(make_baked_material(b, d + "/b.h5", nullptr));
+    EXPECT_TRUE(rc.stable) << rc.summary();
+    for (int i : {0, 1, 2, 3, 5})
+      EXPECT_NEAR(rc.hess(i, i), ds.rest_hessian[i * 7], 0.05 * std::abs(ds.rest_hessian[i * 7])) << "s_" << i;
+  }
   ASSERT_EQ(b.tables.size(), 14u);
   const std::vector<PairCheck> pcs = check_pairs(b);
   std::vector<BakedTerm> terms;

@@ -185,3 +185,75 @@ TEST(Polish, RestCurvaturePenaltyHoldsTheDatasCurvatureAtRest) {
   std::printf("curvature at rest: data %.4f, with the penalty %.4f\n", k_data, held);
   EXPECT_NEAR(held, k_data, 0.05 * k_data);
 }
+
+// The measured rest Hessian (Dataset::rest_hessian, yarn/rest_hessian.hpp) replaces the grid's
+// curvature at rest. A knit's stress-strain curve is stiffest in its first per cent, narrower
+// than the grid (the built-in stockinette: 60 J/m^2 at rest, 14 as the quick grid's central
+// difference); here Psi = 10 s^2 + a (1 - exp(-s^2/w^2)) with w = 0.01 and nodes 0.06 apart:
+// curvature 20 + 2a/w^2 = 70 at rest, 20 as the grid sees it.
+TEST(Polish, MeasuredRestHessianReplacesTheGridsCurvatureAtRest) {
+  const double a = 2.5e-3, w = 0.01, k_true = 20 + 2 * a / (w * w);
+  const TermData t = test::analytic_term(
+      "0", -0.24, 1.2, 25, [&](double s) { return 10 * s * s + a * (1 - std::exp(-s * s / (w * w))); },
+      [&](double s) { return 20 * s + 2 * a * s / (w * w) * std::exp(-s * s / (w * w)); });
+  auto curvature_at_rest = [&](bool measured) {
+    Dataset ds = test::analytic_dataset(t);
+    if (measured) {
+      ds.rest_hessian.assign(36, 0.0);
+      for (int i = 0; i < 6; ++i) ds.rest_hessian[i * 7] = 1.0;
+      ds.rest_hessian[0] = k_true;
+    }
+    TrainerOptions opt = recipe_options("default");
+    opt.config.threads = 1;
+    auto be = make_backend("cpu");
+    const TrainResult r = train_terms(ds, "analytic", {t.term}, opt, *be);
+    EXPECT_TRUE(r.all_ok());
+    const double s0 = 0;
+    return cpu::eval_network_physical(r.model.networks[0], &s0, 1, 2)[2];
+  };
+  const double grid = curvature_at_rest(false), held = curvature_at_rest(true);
+  std::printf("curvature at rest: true %.2f, from the grid %.2f, from the measured rest Hessian %.2f\n", k_true, grid,
+              held);
+  EXPECT_LT(grid, 0.6 * k_true);  // the grid cannot see the core
+  EXPECT_NEAR(held, k_true, 0.05 * k_true);
+}
+
+// --rest-mixed: a 2D term's mixed derivative at rest held to the measured rest Hessian's. The
+// data f = c a b + 3 a^2 b^2 - e a b exp(-(a^2 + b^2)/w^2) on a 9 x 9 grid: f_ab(0,0) = c - e,
+// while the grid, w narrower than a cell, sees c.
+TEST(Polish, RestMixedHoldsA2DTermsMixedDerivativeAtRest) {
+  const double c = 2.0, e = 1.0, w = 0.05;
+  TermData t;
+  t.term = term_by_name("02");
+  t.lower = {-0.2, -0.2};
+  t.upper = {1.0, 1.0};
+  const double pa[9] = {-0.2, -0.1, 0, 1.0 / 6, 2.0 / 6, 0.5, 4.0 / 6, 5.0 / 6, 1.0};
+  for (double x : pa)
+    for (double y : pa) {
+      const double g = std::exp(-(x * x + y * y) / (w * w));
+      t.strain.push_back(x);
+      t.strain.push_back(y);
+      t.energy.push_back(c * x * y + 3 * x * x * y * y - e * x * y * g);
+      t.gradient.push_back(c * y + 6 * x * y * y - e * y * g * (1 - 2 * x * x / (w * w)));
+      t.gradient.push_back(c * x + 6 * x * x * y - e * x * g * (1 - 2 * y * y / (w * w)));
+      t.raw.push_back(t.energy.back());
+      ++t.n;
+    }
+  auto mixed_at_rest = [&](double weight) {
+    Dataset ds = test::analytic_dataset(t);
+    ds.rest_hessian.assign(36, 0.0);
+    for (int i = 0; i < 6; ++i) ds.rest_hessian[i * 7] = 1.0;
+    ds.rest_hessian[0 * 6 + 2] = ds.rest_hessian[2 * 6 + 0] = c - e;
+    TrainerOptions opt = recipe_options("default");
+    opt.config.threads = 1;
+    opt.polish.rest_weight_2d = weight;
+    auto be = make_backend("cpu");
+    const TrainResult r = train_terms(ds, "analytic", {t.term}, opt, *be);
+    const double s0[2] = {0, 0};
+    return cpu::eval_network_physical(r.model.networks[0], s0, 1, 2)[4];  // f_xy (core/jet_layout.hpp)
+  };
+  const double off = mixed_at_rest(0), held = mixed_at_rest(0.1);
+  std::printf("f_ab at rest: true %.3f, off %.3f, held %.3f\n", c - e, off, held);
+  EXPECT_GT(std::abs(off - (c - e)), 0.2 * (c - e));
+  EXPECT_NEAR(held, c - e, 0.05 * (c - e));
+}

@@ -141,6 +141,11 @@ TEST(Produce, InPlaneTermsHaveZeroGradientAtRest) {
   EXPECT_NE(ds.lattice_relaxed[0], p.px);
   ASSERT_EQ(ds.grad0.size(), 6u);
   EXPECT_LT(Eigen::Vector3d(ds.grad0[0], ds.grad0[1], ds.grad0[2]).norm(), 1e-6);
+  // The measured rest Hessian (yarn/rest_hessian.hpp): there, symmetric, positive in-plane.
+  ASSERT_EQ(ds.rest_hessian.size(), 36u);
+  for (int i = 0; i < 3; ++i) EXPECT_GT(ds.rest_hessian[i * 7], 0.0) << i;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) EXPECT_EQ(ds.rest_hessian[i * 6 + j], ds.rest_hessian[j * 6 + i]);
   EXPECT_GT(ds.areal_density, 0.0);
   validate_dataset(ds, "stress-free");
 
