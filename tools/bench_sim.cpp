@@ -13,7 +13,7 @@
 #include "bake/bake_table.hpp"
 #include "bake/material.hpp"
 #include "core/jet_layout.hpp"
-#include "sim/blas_threads.hpp"
+#include "core/blas_threads.hpp"
 #include "sim/dof_map.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "sim/linear_solver.hpp"

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "sim/blas_threads.hpp"
+#include "core/blas_threads.hpp"
 #include "sim/material_source.hpp"
 #include "sim/scene_json.hpp"
 #include "sim/simulation.hpp"

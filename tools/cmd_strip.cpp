@@ -21,6 +21,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/blas_threads.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_checks.hpp"
@@ -117,6 +118,9 @@ void run(const StripOpts& o) {
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
   if (o.threads > 0) omp_set_num_threads(o.threads);
+  // CHOLMOD's BLAS on one thread: its spinning workers would take the cores from the OpenMP
+  // assembly between factorizations (core/blas_threads.hpp). An explicit OPENBLAS_NUM_THREADS wins.
+  if (!std::getenv("OPENBLAS_NUM_THREADS")) set_blas_threads(1);
   check_output_folder(o.out, "-o");  // before any work
   const std::vector<double> size = parse_numbers(o.size, "--size");
   if (size.size() != 2 || !(size[0] > 0 && size[1] > 0))
@@ -217,6 +221,7 @@ void run(const StripOpts& o) {
               "%.4g of the moduli), %d clamped, %d unknowns\n",
               strip.size(), strip.rows, strip.boundary_rows, strip.connectors, nconn, strip.num_edges(),
               strip.connector_scale, nclamped, P.num_dofs());
+  std::printf("solver      CHOLMOD on %s; assembly on %d thread(s)\n", blas_description(), omp_get_max_threads());
   std::fflush(stdout);
 
   // Load steps: reuse the step files that match, compute the rest.
@@ -362,7 +367,7 @@ void register_strip(CLI::App& app) {
       ->check(finite_range(1e-300, 0.1, "a relative residual in (0, 0.1]"));
   cmd->add_option("--max-iterations", o->max_iterations, "Newton iterations per load step at most (default 300)")
       ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--threads", o->threads, "Threads for the assembly (0 or absent: all cores)")->check(CLI::Range(0, kMaxThreads));
+  cmd->add_option("--threads", o->threads, "Threads for the assembly (0 or absent: all cores); the BLAS under CHOLMOD runs on one unless OPENBLAS_NUM_THREADS says otherwise")->check(CLI::Range(0, kMaxThreads));
   cmd->add_option("--rest-time-limit", o->rest_time_limit,
                   "Wall-clock limit of the tile's rest relaxation in seconds, 0: none (default 300; the paper's "
                   "patterns relax in seconds to a minute)")

@@ -1,11 +1,11 @@
-#include "sim/blas_threads.hpp"
+#include "core/blas_threads.hpp"
 
 #include <dlfcn.h>
 
 #include <cstdio>
 #include <string>
 
-namespace yarnhom::sim {
+namespace yarnhom {
 
 namespace {
 template <class F>
@@ -33,4 +33,4 @@ const char* blas_description() {
   return s.c_str();
 }
 
-}  // namespace yarnhom::sim
+}  // namespace yarnhom
