@@ -18,9 +18,9 @@ std::string StripSolveReport::summary() const {
   char buf[320];
   std::snprintf(buf, sizeof buf,
                 "%s after %d iterations, residual %.3g, energy %.9g J, %.2f s (assembly %.2f, factor %.2f, "
-                "line search %.2f)%s",
+                "line search %.2f; %d symbolic analyses)%s",
                 to_string(status), iterations, residual, energy, seconds, assembly_seconds, factor_seconds,
-                line_search_seconds, fallback ? ", trust region stalled: finished by the switched method" : "");
+                line_search_seconds, analyses, fallback ? ", trust region stalled: finished by the switched method" : "");
   return buf;
 }
 
