@@ -67,13 +67,12 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   S.x_tilde = x + h * v;
   if (P.air_drag > 0) S.normals = vertex_normals(P.mesh, x);
   if (P.rayleigh_beta > 0) S.K_prev = elastic_hessian(P, pat, x);
-  // Initial guess: the inertial prediction, shortened to stay outside the colliders; then the
-  // prescribed vertices at their targets.
-  Eigen::VectorXd xn = x;
+  // Initial guess: the inertial prediction, vertex by vertex outside the colliders
+  // (feasible_prediction); then the prescribed vertices at their targets.
   Eigen::VectorXd dx = h * v;
   for (size_t i = 0; i < D.free_index.size(); ++i)
     if (D.free_index[i] < 0) dx.segment<3>(3 * i).setZero();
-  xn += max_feasible_step(P, x, dx) * dx;
+  Eigen::VectorXd xn = feasible_prediction(P, x, dx);
   apply_targets(D, target, xn);
   StepStats out;
   out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);

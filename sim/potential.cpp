@@ -150,6 +150,20 @@ double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen
   return t < 1.0 ? 0.9 * t : 1.0;
 }
 
+Eigen::VectorXd feasible_prediction(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& dx) {
+  Eigen::VectorXd xn = x + dx;
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) {
+    const Eigen::Vector3d pv = dx.segment<3>(3 * v);
+    if (pv.squaredNorm() == 0) continue;
+    for (const Collider& c : P.colliders)
+      if (collider_time_of_impact(c, x.segment<3>(3 * v), pv) < 1.0) {
+        xn.segment<3>(3 * v) = x.segment<3>(3 * v);
+        break;
+      }
+  }
+  return xn;
+}
+
 Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPattern& pat, const Eigen::VectorXd& x) {
   Eigen::SparseMatrix<double> K = pat.matrix;
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
