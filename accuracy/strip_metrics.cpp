@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "accuracy/middle_width.hpp"
+
 namespace yarnhom {
 
 AccuracySummary summarize(const std::vector<StepMetrics>& steps, double rel_floor) {
@@ -56,6 +58,8 @@ StepMetrics compare_step(const std::string& yarn_obj, const std::string& surface
   m.n_cont = n_cont;
   m.stress_diff = std::abs(n_yarn - n_cont);
   m.hausdorff = hausdorff(y.V, align_surface_to_points(c.V, y.V), c.F, spacing);
+  m.width_yarn = middle_width(y.V).width;
+  m.width_cont = middle_width(c.V).width;
   return m;
 }
 

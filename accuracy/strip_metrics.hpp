@@ -23,6 +23,8 @@ struct StepMetrics {
   double n_yarn = 0, n_cont = 0;  // N/m
   double stress_diff = 0;         // |n_yarn - n_cont|
   HausdorffDistance hausdorff;    // metres
+  double width_yarn = 0, width_cont = 0;  // m, each strip's projected width at its middle
+                                          // (accuracy/middle_width.hpp)
 };
 
 struct AccuracySummary {

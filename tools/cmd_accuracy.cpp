@@ -197,6 +197,9 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       for (const auto& m : r.materials)
         f << ",N_" << m.name << ",dN_" << m.name << ",hausdorff_cm_" << m.name << ",hausdorff_points_cm_" << m.name
           << ",hausdorff_surface_cm_" << m.name;
+      // Each strip's projected width at its middle (accuracy/middle_width.hpp).
+      f << ",middle_width_mm_yarn";
+      for (const auto& m : r.materials) f << ",middle_width_mm_" << m.name;
       f << "\n";
       char buf[160];
       for (size_t k = 0; k < r.stretch.size(); ++k) {
@@ -210,6 +213,23 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
           const StepMetrics& s = m.steps[k];
           std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%.6g,%.6g,%.6g", s.n_cont, s.stress_diff, 100 * s.hausdorff.symmetric,
                         100 * s.hausdorff.points_to_surface, 100 * s.hausdorff.surface_to_points);
+          f << buf;
+        }
+        const StepMetrics* any = nullptr;
+        for (const auto& m : r.materials)
+          if (k < m.steps.size()) any = &m.steps[k];
+        if (any) {
+          std::snprintf(buf, sizeof buf, ",%.6g", 1e3 * any->width_yarn);
+          f << buf;
+        } else {
+          f << ",";
+        }
+        for (const auto& m : r.materials) {
+          if (k >= m.steps.size()) {
+            f << ",";
+            continue;
+          }
+          std::snprintf(buf, sizeof buf, ",%.6g", 1e3 * m.steps[k].width_cont);
           f << buf;
         }
         f << "\n";
@@ -269,6 +289,18 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
                     m.steps.size(), r.stretch.size());
       s += buf + m.failure + "\n";
     }
+  }
+  // Transverse contraction, measured alike on both strips (accuracy/middle_width.hpp).
+  for (const auto& m : r.materials) {
+    if (m.steps.size() < 2 || !(m.steps.front().width_yarn > 0) || !(m.steps.front().width_cont > 0)) continue;
+    const StepMetrics &a = m.steps.front(), &b = m.steps.back();
+    std::snprintf(buf, sizeof buf,
+                  "  %-7s projected width at the middle, %.0f %% -> %.0f %%: yarn %.1f -> %.1f mm (%+.1f %%), continuum "
+                  "%.1f -> %.1f mm (%+.1f %%)\n",
+                  m.name.c_str(), 100 * a.stretch, 100 * b.stretch, 1e3 * a.width_yarn, 1e3 * b.width_yarn,
+                  100 * (b.width_yarn / a.width_yarn - 1), 1e3 * a.width_cont, 1e3 * b.width_cont,
+                  100 * (b.width_cont / a.width_cont - 1));
+    s += buf;
   }
   if (!r.n_yarn_per_load_width)
     s += "  note: N_yarn is the yarn strip's force per its nominal width: its force.csv predates the load width "

@@ -136,15 +136,21 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   // baseline's may stop (recorded, not fatal: HYLC-style linear extrapolation can fall outward,
   // and this continuum strip is as small as the yarn strip, 3.5 mm, so it bends hard); once
   // empty they stay empty.
+  // Then each strip's projected width at its middle (accuracy/middle_width.hpp), in mm: the
+  // yarn strip's, the neural continuum's, the baseline's (empty where it stopped).
   bool stopped = false;
   for (const auto& row : v) {
-    ASSERT_EQ(row.size(), 12u);
+    ASSERT_EQ(row.size(), 15u);
     for (size_t c = 0; c < 7; ++c) EXPECT_TRUE(std::isfinite(row[c]));
     const bool empty = std::isnan(row[7]);
     EXPECT_FALSE(stopped && !empty) << "the baseline's rows resume after a stop";
     stopped = stopped || empty;
     for (size_t c = 7; c < 12; ++c) EXPECT_EQ(std::isnan(row[c]), empty);
+    EXPECT_GT(row[12], 0.0);
+    EXPECT_GT(row[13], 0.0);
+    EXPECT_EQ(std::isnan(row[14]), empty);
   }
+  EXPECT_NE(slurp(d + "/acc/accuracy.md").find("projected width at the middle"), std::string::npos);
   // A rerun is all cached; only a baseline that stopped is tried again (its stage failed, so
   // there is nothing to keep).
   auto again = yarnhom::test::run_cli(cmd);
