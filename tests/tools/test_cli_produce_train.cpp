@@ -72,15 +72,19 @@ TEST(ProduceThenTrainAll, QuickPresetTrainsAndEvery1DNetworkLearns) {
   fs::remove_all(d);
 }
 
+// One term of each kind (stretch, bending, stretch-shear, shear-bending, stretch-bending), so that
+// the paper preset's 101-point and 31 x 31 grids are exercised in a fraction of the 14 terms' time
+// (63 s for all 14 on CI's 2 cores).
 TEST(ProduceThenTrainAll, PaperPresetEveryNetworkLowersItsValidationLoss) {
   REQUIRE_STOCKTINY();
   const std::string d = tmpdir("paper");
-  auto r = yarnhom::test::run_cli("produce " + stocktiny() + " -o " + d + "/ds.h5 --preset paper --threads 2");
+  auto r = yarnhom::test::run_cli("produce " + stocktiny() + " -o " + d +
+                                  "/ds.h5 --preset paper --terms 0,3,01,13,25 --threads 2");
   ASSERT_EQ(r.status, 0) << r.out;
   r = yarnhom::test::run_cli("train-all " + d + "/ds.h5 -o " + d + "/m.h5 -q --recipe improved");
   ASSERT_EQ(r.status, 0) << r.out;
   const yarnhom::Model m = yarnhom::read_model(d + "/m.h5");
-  ASSERT_EQ(m.networks.size(), 14u);
+  ASSERT_EQ(m.networks.size(), 5u);
   for (const auto& n : m.networks) {
     const auto& v = n.history.val_loss;
     ASSERT_FALSE(v.empty());
