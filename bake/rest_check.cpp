@@ -48,19 +48,16 @@ RestCheck check_rest(const BakedMaterial& mat, double tolerance) {
   const ScaledEigen se = scaled_eigen(r.hess);
   r.scaled_eigenvalues = se.values;
   r.weakest = se.weakest;
-  r.stable = r.scaled_eigenvalues[0] >= -tolerance;
+  r.stable = se.stable(tolerance);
   return r;
 }
 
 std::string rve_rest_note(const std::vector<double>& rest_hessian) {
   if (rest_hessian.size() != 36) return "";
-  Eigen::Matrix<double, 6, 6> H;
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j) H(i, j) = rest_hessian[i * 6 + j];
-  const double e = scaled_eigen(H).values[0];
+  const ScaledEigen se = scaled_eigen(Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(rest_hessian.data()));
   char buf[160];
   std::snprintf(buf, sizeof buf, "; the RVE's own rest (measured by produce): %s, smallest scaled eigenvalue %.3g",
-                e >= -1e-9 ? "stable" : "UNSTABLE", e);
+                se.stable() ? "stable" : "UNSTABLE", se.values[0]);
   return buf;
 }
 

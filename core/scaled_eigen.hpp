@@ -12,6 +12,8 @@ namespace yarnhom {
 struct ScaledEigen {
   Eigen::Matrix<double, 6, 1> values = Eigen::Matrix<double, 6, 1>::Zero();   // ascending
   Eigen::Matrix<double, 6, 1> weakest = Eigen::Matrix<double, 6, 1>::Zero();  // unit eigenvector of values[0]
+  // Positive semi-definite up to rounding: the one stability criterion of every rest check.
+  bool stable(double tolerance = 1e-9) const { return values[0] >= -tolerance; }
 };
 
 inline ScaledEigen scaled_eigen(const Eigen::Matrix<double, 6, 6>& H) {

@@ -134,7 +134,7 @@ void run(const ProduceOpts& o) {
       std::printf("rest Hessian d2Psi/ds2 diagonal %.4g %.4g %.4g (in-plane) %.4g %.4g %.4g (bending); %s, smallest "
                   "scaled eigenvalue %.3g; asymmetry %.1e (%d solves, %.2f s)\n",
                   h.H(0, 0), h.H(1, 1), h.H(2, 2), h.H(3, 3), h.H(4, 4), h.H(5, 5),
-                  se.values[0] >= 0 ? "stable" : "UNSTABLE", se.values[0], h.asymmetry, h.solves, h.seconds);
+                  se.stable() ? "stable" : "UNSTABLE", se.values[0], h.asymmetry, h.solves, h.seconds);
     } else {
       std::fprintf(stderr, "yarnhom: warning: the rest Hessian was not measured (%s); the dataset has none and the "
                            "training falls back to the grid's curvature at rest\n", h.failure.c_str());

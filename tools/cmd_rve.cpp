@@ -197,7 +197,7 @@ void run(const RveOpts& o) {
         for (int j = 0; j < 6; ++j) std::printf(" %12.5g", rh.H(i, j));
         std::printf("\n");
       }
-      std::printf("            %s: smallest scaled eigenvalue %.3g\n", se.values[0] >= 0 ? "stable" : "UNSTABLE",
+      std::printf("            %s: smallest scaled eigenvalue %.3g\n", se.stable() ? "stable" : "UNSTABLE",
                   se.values[0]);
     }
     std::printf("density     %.6g kg/m^2 (yarn %.6g kg/m^3)\n", yarn::areal_density(*rve), mat.density);

@@ -618,11 +618,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   ds.lattice_original = {pattern.px, 0.0, 0.0, pattern.py};
   ds.lattice_relaxed = {L(0, 0), L(1, 0), L(0, 1), L(1, 1)};
   ds.grad0.assign(r0.grad.data(), r0.grad.data() + 6);
-  if (rep.rest_hessian.ok) {
-    ds.rest_hessian.resize(36);
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) ds.rest_hessian[i * 6 + j] = rep.rest_hessian.H(i, j);
-  }
+  if (rep.rest_hessian.ok)  // symmetric: its storage order is row-major as well
+    ds.rest_hessian.assign(rep.rest_hessian.H.data(), rep.rest_hessian.H.data() + 36);
   ds.areal_density = areal_density(rve);
   {
     std::ostringstream note;
