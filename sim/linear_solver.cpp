@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "core/serial_openmp.hpp"
+
 #ifdef YARNHOM_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
 #endif
@@ -51,6 +53,7 @@ bool LinearSolver::factorize(const Eigen::SparseMatrix<double>& A) {
   const bool fresh = A.rows() != s.analysed_size || A.nonZeros() != s.analysed_nnz;
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (s.use_cholmod) {
+    const SerialOpenMP serial;  // CHOLMOD's own OpenMP regions (core/serial_openmp.hpp)
     if (fresh) s.cholmod.analyzePattern(A);
     s.analysed_size = A.rows();
     s.analysed_nnz = A.nonZeros();

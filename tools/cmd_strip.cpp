@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "core/blas_threads.hpp"
+#include "core/heap_policy.hpp"
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/file_checks.hpp"
@@ -121,6 +122,7 @@ void run(const StripOpts& o) {
   // CHOLMOD's BLAS on one thread: its spinning workers would take the cores from the OpenMP
   // assembly between factorizations (core/blas_threads.hpp). An explicit OPENBLAS_NUM_THREADS wins.
   if (!std::getenv("OPENBLAS_NUM_THREADS")) set_blas_threads(1);
+  retain_freed_memory();  // each iteration reallocates the same large arrays (core/heap_policy.hpp)
   check_output_folder(o.out, "-o");  // before any work
   const std::vector<double> size = parse_numbers(o.size, "--size");
   if (size.size() != 2 || !(size[0] > 0 && size[1] > 0))

@@ -4,6 +4,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 
+#include "core/serial_openmp.hpp"
+
 namespace yarnhom::yarn {
 
 struct HessianFactor::Impl {
@@ -62,6 +64,7 @@ void HessianFactor::analyze_if_new() {
                     m.last_inner.size() == size_t(m.Hs.nonZeros()) &&
                     std::equal(m.last_inner.begin(), m.last_inner.end(), m.Hs.innerIndexPtr());
   if (!same) {
+    const SerialOpenMP serial;  // CHOLMOD's own OpenMP regions (core/serial_openmp.hpp)
     m.llt_sparse.analyzePattern(m.Hs);
     ++analyses_;
     m.last_outer.assign(m.Hs.outerIndexPtr(), m.Hs.outerIndexPtr() + n_ + 1);
@@ -88,6 +91,7 @@ bool HessianFactor::factor(double mu) {
     for (int i = 0; i < n_; ++i) m.shifted.coeffRef(i, i) += mu * m.diag[i];
     A = &m.shifted;
   }
+  const SerialOpenMP serial;
   m.llt_sparse.factorize(*A);
   return m.llt_sparse.info() == Eigen::Success;
 }

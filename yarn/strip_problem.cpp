@@ -209,9 +209,11 @@ double StripProblem::evaluate(const StripState& st, Eigen::VectorXd* grad, Block
       q << st.x[a], st.x[v], st.x[b], st.theta[a], st.theta[v];
       const JointFrames f{st.frames[a], st.frames[v], st.twist[v]};
       const JointRest rest{s_.rest_kappa[v], s_.rest_twist[v], 0.5 * (s_.rest_length[a] + s_.rest_length[v])};
-      if (parts || !derivs) {
+      if (parts) {
         e.bend += joint_energy(q, f, rest, k * EI_, k * GJ_, kBend, nullptr, nullptr);
         e.twist += joint_energy(q, f, rest, k * EI_, k * GJ_, kTwist, nullptr, nullptr);
+      } else if (!derivs) {
+        e.bend += joint_energy(q, f, rest, k * EI_, k * GJ_, kBendTwist, nullptr, nullptr);  // the trials' energies
       }
       if (!derivs) continue;
       Vec11 g;

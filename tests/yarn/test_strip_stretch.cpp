@@ -317,6 +317,27 @@ TEST(StripProblem, BothHessiansInOnePassAreTheExactAndTheProjectedOne) {
   EXPECT_EQ(g1, g2);
 }
 
+TEST(StripProblem, HessianMarginChangesThePatternNotTheValues) {
+  // Pairs beyond the contact's reach add zeros to the pattern, nothing else: the strip's default
+  // margin 0 (the smaller factor) and the RVE's 0.5 radii give the same matrix.
+  const Strip s = test_strip();
+  StripOptions wide;
+  wide.hessian_margin = 0.5;
+  const StripProblem P(s, Material{}, clamp_flags(s, band())), Pw(s, Material{}, clamp_flags(s, band()), wide);
+  ASSERT_EQ(StripOptions{}.hessian_margin, 0.0);
+  StripState st = P.initial_state();
+  std::mt19937 rng(11);
+  std::normal_distribution<double> N(0, 0.05 * s.radius);
+  for (int v = 0; v < s.size(); ++v)
+    if (!P.clamp()[v]) st.x[v] += Eigen::Vector3d(N(rng), N(rng), N(rng));
+  BlockHessian B = P.make_hessian(), Bw = Pw.make_hessian();
+  P.evaluate(st, nullptr, &B);
+  Pw.evaluate(st, nullptr, &Bw);
+  EXPECT_LT(B.matrix().nonZeros(), Bw.matrix().nonZeros()) << "the margin adds pairs here (the check can fail)";
+  auto dense = [](const BlockHessian& H) { return Eigen::MatrixXd(H.matrix()); };
+  EXPECT_LT(rel_err(dense(B), dense(Bw)), 1e-14);
+}
+
 TEST(StripSolve, TrustRegionAndSwitchedNewtonReachTheSameEquilibrium) {
   // The trust region, the switched method, and the trust region handing over to the switched
   // method after its first iteration (as it does when it stalls) from the same start.
