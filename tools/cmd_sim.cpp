@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/blas_threads.hpp"
+#include "core/heap_policy.hpp"
 #include "sim/material_source.hpp"
 #include "sim/scene_json.hpp"
 #include "sim/simulation.hpp"
@@ -218,6 +219,7 @@ void register_sim(CLI::App& app) {
                                   "its dataset; older files have none): give --density KG_PER_M2, e.g. --density 0.3");
     if (o->threads > 0) omp_set_num_threads(o->threads);
     set_blas_threads(o->blas_threads > 0 ? o->blas_threads : 1);
+    retain_freed_memory();  // every Newton iteration reallocates the same large arrays (core/heap_policy.hpp)
     SimSettings set;
     set.out_dir = o->out;
     set.solver = parse_solver_kind(o->solver);
