@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -214,6 +216,31 @@ CheckpointRecord decode(const char* p, size_t n, const RveState& rest) {
   return r;
 }
 
+// What differs between two runs' first lines, in words: the tokens between their common
+// leading and trailing ones (a changed setting is one token, "branch=12/0.05/direct40"; a
+// changed term list is several), so that a refusal names the setting instead of a list of
+// candidates.
+std::string describe_difference(const std::string& have, const std::string& want) {
+  auto split = [](const std::string& s) {
+    std::vector<std::string> t;
+    std::istringstream in(s);
+    for (std::string w; in >> w;) t.push_back(w);
+    return t;
+  };
+  const std::vector<std::string> a = split(have), b = split(want);
+  size_t pre = 0;
+  while (pre < a.size() && pre < b.size() && a[pre] == b[pre]) ++pre;
+  size_t suf = 0;
+  while (suf < a.size() - pre && suf < b.size() - pre && a[a.size() - 1 - suf] == b[b.size() - 1 - suf]) ++suf;
+  auto middle = [&](const std::vector<std::string>& t) {
+    std::string m;
+    for (size_t i = pre; i + suf < t.size(); ++i) m += (m.empty() ? "" : " ") + t[i];
+    if (m.size() > 160) m = m.substr(0, 157) + "...";
+    return m.empty() ? std::string("nothing") : "'" + m + "'";
+  };
+  return "it has " + middle(a) + " where this run has " + middle(b);
+}
+
 std::string header(const std::string& fingerprint, const std::string& rest_sig) {
   return kMagic + std::to_string(kCheckpointVersion) + " " + fingerprint + "\nrest " + rest_sig + "\n";
 }
@@ -282,8 +309,9 @@ CheckpointContents read_checkpoint(const std::string& path, const std::string& f
   const size_t eol = want.find('\n') + 1;
   if (head.compare(0, eol, want, 0, eol) != 0)
     throw FileError(path, "line 1",
-                    "checkpoint of a different run (pattern, preset, terms, sectors, warm start, ranges or material "
-                    "differ); remove it to start over");
+                    "checkpoint of a different run: " + describe_difference(line1, want.substr(0, eol - 1)) +
+                        " (pattern, preset, tolerance, terms, sectors, warm start, branch pass, ranges and material "
+                        "must match); remove it to start over");
   if (head != want)
     throw FileError(path, "line 2",
                     "checkpoint of a different rest state (another build of yarnhom, or another thread count in the rest "

@@ -259,13 +259,28 @@ TEST(Produce, KilledRunResumesToTheSameDatasetBitForBit) {
     EXPECT_EQ(rep.resumed, records);
   }
 
-  // A checkpoint of another run is refused, naming the file.
+  // A checkpoint of another run is refused, naming the file and the setting that differs.
+  auto refusal = [&](const ProduceOptions& o) -> std::string {
+    try {
+      produce(p, o);
+    } catch (const yarnhom::FileError& e) {
+      EXPECT_EQ(e.file(), ck.string());
+      return e.what();
+    }
+    ADD_FAILURE() << "a checkpoint of another run was accepted";
+    return "";
+  };
   ProduceOptions other = opt;
   other.terms = parse_term_list("0");
-  EXPECT_THROW(produce(p, other), yarnhom::FileError);
+  EXPECT_NE(refusal(other).find("it has '2 25' where this run has '0'"), std::string::npos) << refusal(other);
   other = opt;
   other.sectors = 4;  // other parents: the same samples would not come out
-  EXPECT_THROW(produce(p, other), yarnhom::FileError);
+  EXPECT_NE(refusal(other).find("it has 'sectors=8' where this run has 'sectors=4'"), std::string::npos)
+      << refusal(other);
+  other = opt;
+  other.branch_rounds = opt.branch_rounds + 1;
+  EXPECT_NE(refusal(other).find("branch=" + std::to_string(opt.branch_rounds + 1) + "/"), std::string::npos)
+      << refusal(other);
   // The text checkpoint of before (format 2: samples without their states) is refused by name:
   // resuming from it cannot give the uninterrupted run's dataset.
   spit(ck, "yarnhom-produce-checkpoint 2 stocktiny n=84 preset=tiny\n0 1 converged 5 0.1 1.5 0 0 0 0 0 0 .\n");
