@@ -16,6 +16,7 @@ AccuracySummary summarize(const std::vector<StepMetrics>& steps, double rel_floo
   for (const StepMetrics& m : steps) {
     s.mean_stress_diff += m.stress_diff;
     s.mean_hausdorff += m.hausdorff.symmetric;
+    s.mean_hausdorff_fabric += m.hausdorff_fabric.symmetric;
     sum_diff += m.stress_diff;
     sum_yarn += std::abs(m.n_yarn);
     if (nmax > 0 && std::abs(m.n_yarn) >= rel_floor * nmax) {
@@ -25,6 +26,7 @@ AccuracySummary summarize(const std::vector<StepMetrics>& steps, double rel_floo
   }
   s.mean_stress_diff /= s.tests;
   s.mean_hausdorff /= s.tests;
+  s.mean_hausdorff_fabric /= s.tests;
   if (s.rel_tests) s.mean_rel_error /= s.rel_tests;
   s.ratio_of_means = sum_yarn > 0 ? sum_diff / sum_yarn : 0;
   return s;
@@ -58,7 +60,10 @@ StepMetrics compare_step(const std::string& yarn_obj, const std::string& surface
   m.n_cont = n_cont;
   m.stress_diff = std::abs(n_yarn - n_cont);
   m.hausdorff = hausdorff(y.V, align_surface_to_points(c.V, y.V), c.F, spacing);
+  const Eigen::Matrix3Xd fabric = points_outside_group(y, "boundary");
+  m.hausdorff_fabric = hausdorff(fabric, align_surface_to_points(c.V, fabric), c.F, spacing);
   m.width_yarn = middle_width(y.V).width;
+  m.width_yarn_fabric = middle_width(fabric).width;
   m.width_cont = middle_width(c.V).width;
   return m;
 }

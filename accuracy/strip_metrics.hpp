@@ -23,6 +23,11 @@ struct StepMetrics {
   double n_yarn = 0, n_cont = 0;  // N/m
   double stress_diff = 0;         // |n_yarn - n_cont|
   HausdorffDistance hausdorff;    // metres
+  // The same, with the yarn strip's soft boundary yarn (OBJ group "boundary") left out: its
+  // connectors run in lanes up to a centimetre outside the fabric (docs/strip.md section 1), so
+  // they, not the fabric, set the full distance's floor. Equal to `hausdorff` without groups.
+  HausdorffDistance hausdorff_fabric;
+  double width_yarn_fabric = 0;  // m, the yarn strip's middle width without its boundary yarn
   double width_yarn = 0, width_cont = 0;  // m, each strip's projected width at its middle
                                           // (accuracy/middle_width.hpp)
 };
@@ -31,6 +36,7 @@ struct AccuracySummary {
   int tests = 0;
   double mean_stress_diff = 0;  // N/m
   double mean_hausdorff = 0;    // metres
+  double mean_hausdorff_fabric = 0;  // metres, StepMetrics::hausdorff_fabric
   double mean_rel_error = 0;    // fraction, over rel_tests tests
   int rel_tests = 0;
   double ratio_of_means = 0;    // fraction
@@ -48,7 +54,8 @@ Eigen::Matrix3Xd align_surface_to_points(const Eigen::Matrix3Xd& V, const Eigen:
 namespace yarnhom {
 
 // One step: the yarn centreline vertices (all vertices of the OBJ, polylines or not) against
-// the continuum surface (its triangles), aligned by align_surface_to_points.
+// the continuum surface (its triangles), aligned by align_surface_to_points; and the fabric's
+// vertices alone (points_outside_group "boundary") against the surface aligned to them.
 StepMetrics compare_step(const std::string& yarn_obj, const std::string& surface_obj, double stretch, double n_yarn,
                          double n_cont, double spacing);
 

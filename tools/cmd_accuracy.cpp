@@ -200,6 +200,10 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
       // Each strip's projected width at its middle (accuracy/middle_width.hpp).
       f << ",middle_width_mm_yarn";
       for (const auto& m : r.materials) f << ",middle_width_mm_" << m.name;
+      // The same two measures of the fabric's own yarn, the soft boundary yarn left out
+      // (StepMetrics::hausdorff_fabric); last, so that the columns before keep their places.
+      f << ",middle_width_fabric_mm_yarn";
+      for (const auto& m : r.materials) f << ",hausdorff_fabric_cm_" << m.name;
       f << "\n";
       char buf[160];
       for (size_t k = 0; k < r.stretch.size(); ++k) {
@@ -230,6 +234,20 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
             continue;
           }
           std::snprintf(buf, sizeof buf, ",%.6g", 1e3 * m.steps[k].width_cont);
+          f << buf;
+        }
+        if (any) {
+          std::snprintf(buf, sizeof buf, ",%.6g", 1e3 * any->width_yarn_fabric);
+          f << buf;
+        } else {
+          f << ",";
+        }
+        for (const auto& m : r.materials) {
+          if (k >= m.steps.size()) {
+            f << ",";
+            continue;
+          }
+          std::snprintf(buf, sizeof buf, ",%.6g", 100 * m.steps[k].hausdorff_fabric.symmetric);
           f << buf;
         }
         f << "\n";
@@ -300,6 +318,21 @@ std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions&
                   m.name.c_str(), 100 * a.stretch, 100 * b.stretch, 1e3 * a.width_yarn, 1e3 * b.width_yarn,
                   100 * (b.width_yarn / a.width_yarn - 1), 1e3 * a.width_cont, 1e3 * b.width_cont,
                   100 * (b.width_cont / a.width_cont - 1));
+    s += buf;
+  }
+  // The fabric alone: where the boundary yarn's lanes set the distance, these say so.
+  for (const auto& m : r.materials) {
+    if (m.steps.empty()) continue;
+    const AccuracySummary& a = m.summary;
+    if (std::abs(a.mean_hausdorff_fabric - a.mean_hausdorff) < 1e-12 &&
+        std::abs(m.steps.front().width_yarn_fabric - m.steps.front().width_yarn) < 1e-12)
+      continue;  // no boundary yarn in the centrelines
+    const StepMetrics &f = m.steps.front(), &b = m.steps.back();
+    std::snprintf(buf, sizeof buf,
+                  "  %-7s the fabric's yarn alone (boundary yarn left out): Hausdorff %.3f cm (mean), middle width "
+                  "%.1f -> %.1f mm (%+.1f %%)\n",
+                  m.name.c_str(), 100 * a.mean_hausdorff_fabric, 1e3 * f.width_yarn_fabric, 1e3 * b.width_yarn_fabric,
+                  f.width_yarn_fabric > 0 ? 100 * (b.width_yarn_fabric / f.width_yarn_fabric - 1) : 0.0);
     s += buf;
   }
   if (!r.n_yarn_per_load_width)

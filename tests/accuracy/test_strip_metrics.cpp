@@ -77,3 +77,47 @@ TEST(StripMetrics, ReadersOfObjAndCsv) {
   EXPECT_THROW(read_csv_columns(badcsv, {"b"}), FileError);
   for (const auto& p : {obj, bad, csv, badcsv}) fs::remove(p);
 }
+
+// The fabric's distance leaves the boundary yarn out: a yarn strip whose own yarn covers the
+// continuum's rectangle exactly (rows of points 1 mm apart) and whose boundary yarn runs 1 cm
+// beside it. The full distance sees the boundary lane (the alignment centres the bounding boxes,
+// so the lane ends 5 mm outside the shifted surface); the fabric's is the grid's own spacing.
+TEST(StripMetrics, BoundaryYarnIsLeftOutOfTheFabricDistance) {
+  std::string yarn = "# a strip\n";
+  const int nx = 51, ny = 101;  // 0..50 mm x 0..100 mm, 1 mm apart
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) yarn += "v " + std::to_string(1e-3 * i) + " " + std::to_string(1e-3 * j) + " 0\n";
+  for (int j = 0; j < ny; ++j) yarn += "v 0.06 " + std::to_string(1e-3 * j) + " 0\n";  // the lane
+  for (int j = 0; j < ny; ++j) {
+    yarn += "g yarn\nl";
+    for (int i = 0; i < nx; ++i) yarn += " " + std::to_string(j * nx + i + 1);
+    yarn += "\n";
+  }
+  yarn += "g boundary\nl";
+  for (int j = 0; j < ny; ++j) yarn += " " + std::to_string(nx * ny + j + 1);
+  yarn += "\n";
+  const std::string yobj = write_tmp("yarn.obj", yarn);
+  const std::string sobj = write_tmp("surf.obj", "v 0 0 0\nv 0.05 0 0\nv 0.05 0.1 0\nv 0 0.1 0\nf 1 2 3 4\n");
+
+  const ObjGeometry g = read_obj_geometry(yobj);
+  ASSERT_EQ(g.line_groups.size(), size_t(ny + 1));
+  EXPECT_EQ(g.line_groups.front(), "yarn");
+  EXPECT_EQ(g.line_groups.back(), "boundary");
+  EXPECT_EQ(points_outside_group(g, "boundary").cols(), nx * ny);
+  EXPECT_EQ(points_outside_group(g, "nothing of that name").cols(), g.V.cols()) << "no such group: every point";
+
+  const StepMetrics m = compare_step(yobj, sobj, 1.0, 1.0, 1.0, 5e-4);
+  EXPECT_NEAR(m.hausdorff.points_to_surface, 0.005, 1e-9) << "the lane, 5 mm outside the centred surface";
+  EXPECT_GT(m.hausdorff.symmetric, 0.005 - 1e-9);
+  // The fabric's points lie on the surface (0 one way); the surface's samples are within half a
+  // grid diagonal (0.71 mm) of a point the other way.
+  EXPECT_NEAR(m.hausdorff_fabric.points_to_surface, 0.0, 1e-12);
+  EXPECT_LE(m.hausdorff_fabric.symmetric, 0.5e-3 * std::sqrt(2.0) + 1e-9);
+  EXPECT_NEAR(m.width_yarn, 0.06, 1e-9);
+  EXPECT_NEAR(m.width_yarn_fabric, 0.05, 1e-9);
+
+  std::vector<StepMetrics> s(2, m);
+  s[1].hausdorff_fabric.symmetric = 0;
+  EXPECT_NEAR(summarize(s).mean_hausdorff_fabric, 0.5 * m.hausdorff_fabric.symmetric, 1e-15);
+  for (const auto& p : {yobj, sobj}) fs::remove(p);
+}

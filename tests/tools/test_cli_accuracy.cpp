@@ -137,10 +137,17 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
   // and this continuum strip is as small as the yarn strip, 3.5 mm, so it bends hard); once
   // empty they stay empty.
   // Then each strip's projected width at its middle (accuracy/middle_width.hpp), in mm: the
-  // yarn strip's, the neural continuum's, the baseline's (empty where it stopped).
+  // yarn strip's, the neural continuum's, the baseline's (empty where it stopped). Last the
+  // fabric's own yarn without the boundary yarn: its middle width (no wider than the whole
+  // strip's) and each material's Hausdorff to it.
   bool stopped = false;
   for (const auto& row : v) {
-    ASSERT_EQ(row.size(), 15u);
+    ASSERT_EQ(row.size(), 18u);
+    EXPECT_GT(row[15], 0.0);
+    EXPECT_LE(row[15], row[12] + 1e-9);
+    EXPECT_TRUE(std::isfinite(row[16]));
+    EXPECT_GE(row[16], 0.0);
+    EXPECT_EQ(std::isnan(row[17]), std::isnan(row[14]));
     for (size_t c = 0; c < 7; ++c) EXPECT_TRUE(std::isfinite(row[c]));
     const bool empty = std::isnan(row[7]);
     EXPECT_FALSE(stopped && !empty) << "the baseline's rows resume after a stop";
