@@ -357,7 +357,10 @@ void register_strip(CLI::App& app) {
                   "relaxed at 1.0 first");
   cmd->add_option("--clamp", o->clamp, "Clamp band at each short end, metres (default 0.005): every vertex within it is held")
       ->check(finite_positive());
-  cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's, in (0, 1] (default 1/200)")
+  cmd->add_option("--connector-scale", o->connector_scale, "Moduli of the boundary yarn relative to the yarn's, in (0, 1] (default 1/200, the supplement's). 1 gives "
+                  "the selvedges the yarn's own stiffness, as in a knit where the yarn turns into the next course: our "
+                  "joins are long, and at 1/200 the selvedges are nearly free (docs/accuracy.md, \"The boundary yarn's "
+                  "stiffness\")")
       ->check(finite_range(1e-12, 1.0, "in (0, 1]"));
   cmd->add_option("--newton", o->newton,
                   "Newton method of each load step: trust-region (default: Steihaug-CG on the exact Hessian, "
