@@ -100,6 +100,7 @@ void register_architectures(CLI::App* study) {
       if (o->epochs > 0) opt.config.epochs = o->epochs;
       opt.seed = o->seed;
       opt.net.hidden = a.hidden;
+      opt.hidden_2d.clear();  // the architecture under study, whatever the recipe gives 2D terms
       opt.config.threads = o->threads;
       auto backend = make_backend(o->backend);
       std::fprintf(stderr, "  %s [%s] ...", a.name, join(a.hidden).c_str());

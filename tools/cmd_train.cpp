@@ -17,7 +17,7 @@ namespace yarnhom::tools {
 namespace {
 
 struct TrainOpts {
-  std::string dataset, out, backend = "cpu", terms = "all", term, hidden = "16,32,16", recipe = "default";
+  std::string dataset, out, backend = "cpu", terms = "all", term, hidden = "16,32,16", hidden_2d, recipe = "default";
   int epochs = 500, threads = 0;
   uint64_t seed = 0;
   double lr = 1e-3;
@@ -25,7 +25,7 @@ struct TrainOpts {
   bool stencil = false, quiet = false;
   double stencil_eps = 1e-2;
   int batch1 = 4, batch2 = 128, off = 50;
-  int polish = 4000;
+  int polish = 16000;
   double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
   bool polish_float = false;
   double rest_weight = 0.1, rest_mixed = 0;
@@ -56,26 +56,37 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
                   "schedule, losses L_Z L_F L_C L_S), then a full-batch L-BFGS polish of up to --polish "
                   "iterations on the data losses L_Z + w_F L_F (the 1D terms in double, weighted for a relative "
                   "fit and held to the data's curvature at rest: --relative-fit, --rest-curvature), ending on "
-                  "the iterate with the lowest validation data loss (docs/training.md, \"The default recipe\"). 'paper': the paper's "
+                  "the iterate with the lowest validation data loss (docs/training.md, \"The default recipe\"); the 2D terms' "
+                  "networks are Net-2 [32,32] (--hidden-2d). 'paper': the paper's "
                   "recipe exactly (no polish). 'improved': lr 3e-3 and 2D batch 32, no polish (the "
                   "earlier improvement). --lr, --batch-2d and --polish override the recipe's values")
       ->check(CLI::IsMember({"default", "paper", "improved"}))
       ->capture_default_str();
   cmd->add_option("--lr", o.lr, "Initial Adam learning rate (the recipe's: 1e-3; improved: 3e-3)")->check(finite_positive())->capture_default_str();
-  cmd->add_option("--hidden", o.hidden, "Hidden layer sizes (the paper's Net-3: 16,32,16)")
-      ->check(CLI::Validator(
-          [](std::string& in) -> std::string {
-            try {
-              NetworkDesc desc;
-              desc.hidden = parse_ints(in, "--hidden", 1024);
-              desc.validate();
-            } catch (const std::exception& e) {
-              return e.what();
-            }
-            return "";
-          },
-          "SIZES"))
+  auto sizes_check = [](const char* flag) {
+    return CLI::Validator(
+        [flag](std::string& in) -> std::string {
+          try {
+            NetworkDesc desc;
+            desc.hidden = parse_ints(in, flag, 1024);
+            desc.validate();
+          } catch (const std::exception& e) {
+            return e.what();
+          }
+          return "";
+        },
+        "SIZES");
+  };
+  cmd->add_option("--hidden", o.hidden,
+                  "Hidden layer sizes of every network (the paper's Net-3: 16,32,16). Given explicitly, it "
+                  "replaces the recipe's 2D sizes too, unless --hidden-2d is also given")
+      ->check(sizes_check("--hidden"))
       ->capture_default_str();
+  cmd->add_option("--hidden-2d", o.hidden_2d,
+                  "Hidden layer sizes of the 2D terms' networks only (the default recipe: 32,32, the paper's "
+                  "Net-2, which fits the shear and bending couplings better than Net-3; docs/training.md; the "
+                  "'paper' and 'improved' recipes: as --hidden)")
+      ->check(sizes_check("--hidden-2d"));
   cmd->add_option("--w-z", o.wz, "Weight of L_Z (energy)")->check(finite_non_negative())->capture_default_str();
   cmd->add_option("--w-f", o.wf, "Weight of L_F (force = gradient)")->check(finite_non_negative())->capture_default_str();
   cmd->add_option("--w-c", o.wc, "Weight of L_C (third-order smoothness)")->check(finite_non_negative())->capture_default_str();
@@ -92,7 +103,7 @@ void add_common(CLI::App* cmd, TrainOpts& o) {
       ->capture_default_str();
   cmd->add_option("--polish", o.polish,
                   "Maximum L-BFGS iterations of the full-batch polish after the epochs, every term (0: none; "
-                  "the 'paper' and 'improved' recipes have none; the default recipe: 4000, and 8000 for the "
+                  "the 'paper' and 'improved' recipes have none; the default recipe: 16000 (the 2D terms; they stop earlier where they converge), and 8000 for the "
                   "1D terms, which also hold their curvature at rest)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -198,6 +209,8 @@ void run_training(TrainOpts o, std::vector<Term> terms, const CLI::App& cmd) {
     for (auto& t : ds.terms) terms.push_back(t.term);
   opt.seed = o.seed;
   opt.net.hidden = parse_ints(o.hidden, "--hidden");
+  if (given("--hidden")) opt.hidden_2d.clear();
+  if (given("--hidden-2d")) opt.hidden_2d = parse_ints(o.hidden_2d, "--hidden-2d");
   opt.config.threads = o.threads > 0 ? o.threads : default_threads();
   opt.config.off_domain = o.off;
   opt.config.loss.w = LossWeights{o.wz, o.wf, o.wc, o.ws, o.wx};

@@ -43,7 +43,7 @@ struct PolishOptions {
   // well-fitted 1D network carries rounding of about 1e-5 of itself (residuals of 1e-3 on
   // outputs of order 1), and L-BFGS stops where a step's decrease falls below it: measured on
   // basket term 0, 56 iterations and a slope 34 % too high at s_x = 0.048 in float, 4000 and
-  // 3 % in double. The 2D terms' polishes run their 4000 iterations in float and cost 2x in
+  // 3 % in double. The 2D terms' polishes run their (up to 16000) iterations in float and cost 2x in
   // double (docs/training.md, "Relative fit").
   bool in_double[2] = {true, false};
   // > 0: the second derivatives at rest are held to NetworkJob::curvature_rest (the dataset's

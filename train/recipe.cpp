@@ -16,7 +16,8 @@ TrainerOptions recipe_options(const std::string& recipe) {
     return opt;
   }
   if (recipe == "default") {
-    opt.polish.iterations = 4000;
+    opt.polish.iterations = 16000;       // the 2D terms' cap (they stop earlier where they converge)
+    opt.hidden_2d = {32, 32};            // Net-2 for the 2D terms (docs/training.md, "Net-2 for the 2D terms")
     opt.polish.w_c = 0;
     opt.polish.w_s = 0;
     opt.polish.keep_best = true;

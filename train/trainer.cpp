@@ -48,6 +48,7 @@ NetworkJob make_job(const TermData& data, const TrainerOptions& opt, Normalizati
   job.name = data.term.name;
   job.desc = opt.net;
   job.desc.input_dim = d;
+  if (d == 2 && !opt.hidden_2d.empty()) job.desc.hidden = opt.hidden_2d;
   job.desc.validate();
   job.key = rng_key(opt.seed, uint64_t(catalogue_index(data.term)));
   job.batch_size = d == 1 ? opt.batch_1d : opt.batch_2d;

@@ -22,6 +22,7 @@ struct TrainerOptions {
   PlateauParams plateau;
   PolishOptions polish;      // the full-batch L-BFGS polish after the epochs (0 iterations: none)
   NetworkDesc net;           // hidden sizes and activation; input_dim set per term
+  std::vector<int> hidden_2d;  // the 2D terms' hidden sizes; empty: net.hidden, as the 1D terms
   uint64_t seed = 0;
   int batch_1d = 4, batch_2d = 128;
   double val_fraction = 0.1;

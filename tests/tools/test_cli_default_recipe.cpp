@@ -71,6 +71,32 @@ TEST(DefaultRecipe, FitsEveryTermOfTheSyntheticPaperPreset) {
   }
   // train-all's table says the same, in words.
   EXPECT_EQ(r.out.find("FAILS"), std::string::npos) << r.out;
+  // The default recipe's architectures: Net-3 for the 1D terms, Net-2 for the 2D terms.
+  for (const ModelNetwork& n : read_model(d + "/m.h5").networks)
+    EXPECT_EQ(n.desc.hidden, (n.term.dim() == 1 ? std::vector<int>{16, 32, 16} : std::vector<int>{32, 32}))
+        << n.term.name;
+  fs::remove_all(d);
+}
+
+// Which sizes each option sets: --hidden every network (the recipe's 2D sizes too), --hidden-2d
+// the 2D networks only, and the paper's recipe keeps Net-3 everywhere.
+TEST(DefaultRecipe, HiddenSizesPerDimensionFollowTheOptions) {
+  const std::string d = tmpdir("hidden");
+  ASSERT_EQ(test::run_cli("synth --preset quick -o " + d + "/ds.h5").status, 0);
+  auto sizes = [&](const std::string& args) {
+    auto r = test::run_cli("train-all " + d + "/ds.h5 -o " + d + "/m.h5 -q --threads 2 --epochs 1 --polish 0 --terms 0,01 " + args);
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.out;
+    std::vector<std::vector<int>> h;
+    for (const ModelNetwork& n : read_model(d + "/m.h5").networks) h.push_back(n.desc.hidden);
+    return h;  // catalogue order: term 0, then 01
+  };
+  using V = std::vector<std::vector<int>>;
+  EXPECT_EQ(sizes(""), (V{{16, 32, 16}, {32, 32}}));
+  EXPECT_EQ(sizes("--hidden 8"), (V{{8}, {8}}));
+  EXPECT_EQ(sizes("--hidden-2d 8,4"), (V{{16, 32, 16}, {8, 4}}));
+  EXPECT_EQ(sizes("--hidden 8 --hidden-2d 8,4"), (V{{8}, {8, 4}}));
+  EXPECT_EQ(sizes("--recipe paper"), (V{{16, 32, 16}, {16, 32, 16}}));
+  EXPECT_NE(test::run_cli("train-all " + d + "/ds.h5 -o " + d + "/m.h5 --hidden-2d 0").status, 0);
   fs::remove_all(d);
 }
 
