@@ -42,9 +42,14 @@ double rel_err(const float* a, const float* b, size_t n) {
   return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
 }
 
-NetworkDesc net(int d) {
+// The parameter: 1 and 2 are Net-3 [16,32,16] in 1D and 2D; 3 is the default recipe's 2D
+// network, Net-2 [32,32] (train/recipe.cpp).
+int dim_of(int code) { return code == 1 ? 1 : 2; }
+
+NetworkDesc net(int code) {
   NetworkDesc n;
-  n.input_dim = d;
+  n.input_dim = dim_of(code);
+  if (code == 3) n.hidden = {32, 32};
   return n;
 }
 
@@ -54,8 +59,8 @@ class CudaKernels : public ::testing::TestWithParam<int> {};
 
 TEST_P(CudaKernels, ForwardJetMatchesCpu) {
   REQUIRE_GPU();
-  const int d = GetParam();
-  const NetworkDesc desc = net(d);
+  const int d = dim_of(GetParam());
+  const NetworkDesc desc = net(GetParam());
   for (int order = 0; order <= 3; ++order)
     for (int B : {1, 7, 300, 5000}) {
       const auto p = test::random_params<float>(desc, 11 + B + order);
@@ -76,8 +81,8 @@ TEST_P(CudaKernels, ForwardJetMatchesCpu) {
 
 TEST_P(CudaKernels, BackwardMatchesCpu) {
   REQUIRE_GPU();
-  const int d = GetParam();
-  const NetworkDesc desc = net(d);
+  const int d = dim_of(GetParam());
+  const NetworkDesc desc = net(GetParam());
   for (int order = 0; order <= 3; ++order)
     for (int B : {1, 9, 260, 4000}) {
       const auto p = test::random_params<float>(desc, 5 + B + order);
@@ -104,7 +109,7 @@ TEST_P(CudaKernels, BackwardMatchesCpu) {
 
 TEST_P(CudaKernels, DataAndStrainLossesMatchCpu) {
   REQUIRE_GPU();
-  const int d = GetParam();
+  const int d = dim_of(GetParam());
   const int B = 777, C = jet_channels(d, 3), C1 = jet_channels(d, 1);
   LossWeights w;
   w.x = 0.5;  // exercise L_X too
@@ -142,8 +147,8 @@ TEST_P(CudaKernels, DataAndStrainLossesMatchCpu) {
 
 TEST_P(CudaKernels, FusedLossGradMatchesCpu) {
   REQUIRE_GPU();
-  const int d = GetParam();
-  const NetworkDesc desc = net(d);
+  const int d = dim_of(GetParam());
+  const NetworkDesc desc = net(GetParam());
   for (int m : {4, 128, 3000}) {
     const int K = 50;
     const auto p = test::random_params<float>(desc, 40 + m);
@@ -183,8 +188,8 @@ TEST_P(CudaKernels, FusedLossGradMatchesCpu) {
 // on a batch large enough that every warp of every block takes several tiles.
 TEST_P(CudaKernels, FusedLossGradOrdersAndPathsMatchCpu) {
   REQUIRE_GPU();
-  const int d = GetParam();
-  const NetworkDesc desc = net(d);
+  const int d = dim_of(GetParam());
+  const NetworkDesc desc = net(GetParam());
   const int m = 40000 + 3, K = 1001;
   const auto p = test::random_params<float>(desc, 77);
   const auto x = uniform(size_t(m) * d, -1.f, 1.f, 71), y = uniform(m, -1.f, 1.f, 72),
@@ -230,8 +235,8 @@ TEST_P(CudaKernels, FusedLossGradOrdersAndPathsMatchCpu) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Dims, CudaKernels, ::testing::Values(1, 2), [](const auto& i) {
-  return "d" + std::to_string(i.param);
+INSTANTIATE_TEST_SUITE_P(Dims, CudaKernels, ::testing::Values(1, 2, 3), [](const auto& i) {
+  return i.param == 3 ? std::string("d2_net2") : "d" + std::to_string(i.param);
 });
 
 // The fragment layout of mma.sync m16n8k8 TF32 that cuda/mma_jet.cuh relies on (A: a0 =

@@ -19,9 +19,10 @@ using namespace yarnhom;
 
 namespace {
 
-TrainResult train(const std::string& backend, int epochs, uint64_t seed = 3) {
+TrainResult train(const std::string& backend, int epochs, uint64_t seed = 3, std::vector<int> hidden_2d = {}) {
   static const Dataset ds = make_synthetic_dataset("quick");
   TrainerOptions opt;
+  opt.hidden_2d = std::move(hidden_2d);
   opt.seed = seed;
   opt.config.epochs = epochs;
   opt.config.threads = 2;
@@ -53,9 +54,13 @@ double rel(const std::vector<float>& a, const std::vector<float>& b) {
 // final validation loss 1.0e-7, first-epoch training loss 2.1e-7. The bounds below are 100x
 // those figures: a real arithmetic difference (a wrong channel, a missed term) shows up at
 // 1e-3 or more in the first epoch.
-TEST(CudaTrain, TwentyEpochsMatchCpuWithinFloatDrift) {
+// Twice: the paper's Net-3 everywhere, and the default recipe's Net-2 [32,32] for the 2D terms.
+class CudaTrainArch : public ::testing::TestWithParam<int> {};
+
+TEST_P(CudaTrainArch, TwentyEpochsMatchCpuWithinFloatDrift) {
   REQUIRE_GPU();
-  TrainResult c = train("cpu", 20), g = train("cuda", 20);
+  const std::vector<int> h2 = GetParam() == 2 ? std::vector<int>{32, 32} : std::vector<int>{};
+  TrainResult c = train("cpu", 20, 3, h2), g = train("cuda", 20, 3, h2);
   ASSERT_TRUE(c.all_ok());
   ASSERT_TRUE(g.all_ok());
   ASSERT_EQ(c.model.networks.size(), g.model.networks.size());
@@ -64,6 +69,7 @@ TEST(CudaTrain, TwentyEpochsMatchCpuWithinFloatDrift) {
     const auto& a = g.model.networks[j];
     const auto& b = c.model.networks[j];
     EXPECT_EQ(a.backend, "cuda");
+    if (!h2.empty() && a.term.dim() == 2) EXPECT_EQ(a.desc.hidden, h2) << a.term.name;
     ASSERT_EQ(a.history.val_loss.size(), 20u);
     const double dw = rel(a.params, b.params);
     const double dl = std::abs(a.history.val_loss.back() - b.history.val_loss.back()) / b.history.val_loss.back();
@@ -78,6 +84,10 @@ TEST(CudaTrain, TwentyEpochsMatchCpuWithinFloatDrift) {
   }
   std::printf("  worst: weights %.3e, val loss %.3e\n", worst_w, worst_l);
 }
+
+INSTANTIATE_TEST_SUITE_P(Nets, CudaTrainArch, ::testing::Values(3, 2), [](const auto& i) {
+  return i.param == 2 ? std::string("Net2For2D") : std::string("Net3");
+});
 
 TEST(CudaTrain, SameSeedBitIdenticalWeights) {
   REQUIRE_GPU();
