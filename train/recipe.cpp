@@ -17,7 +17,7 @@ TrainerOptions recipe_options(const std::string& recipe) {
   }
   if (recipe == "default") {
     opt.polish.iterations = 16000;       // the 2D terms' cap (they stop earlier where they converge)
-    opt.hidden_2d = {32, 32};            // Net-2 for the 2D terms (docs/training.md, "Net-2 for the 2D terms")
+    opt.hidden_2d = {32, 32};            // Net-2 for the 2D terms (docs/training.md, "The default recipe")
     opt.polish.w_c = 0;
     opt.polish.w_s = 0;
     opt.polish.keep_best = true;
