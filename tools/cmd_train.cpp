@@ -25,7 +25,7 @@ struct TrainOpts {
   bool stencil = false, quiet = false;
   double stencil_eps = 1e-2;
   int batch1 = 4, batch2 = 128, off = 50;
-  int polish = 16000;
+  int polish = recipe_options("default").polish.iterations;  // shown by --help; the recipe sets it
   double polish_wc = 0, polish_ws = 0, relative = 0.1, relative_2d = 0;
   bool polish_float = false;
   double rest_weight = 0.1, rest_mixed = 0;
