@@ -37,6 +37,10 @@ void validate_dataset(const Dataset& ds, const std::string& file) {
   optional_attr(ds.lattice_relaxed, 4, "lattice_relaxed");
   optional_attr(ds.grad0, 6, "grad0");
   optional_attr(ds.rest_hessian, 36, "hessian");
+  optional_attr(ds.rve_tiles, 2, "rve_tiles");
+  for (double t : ds.rve_tiles)
+    if (t != std::floor(t) || t < 1 || t > 64)
+      throw FileError(file, "/rest", "attribute rve_tiles must hold two whole numbers in [1, 64]");
   for (int i = 0; i < 6 && ds.rest_hessian.size() == 36; ++i)
     for (int j = 0; j < i; ++j)
       if (ds.rest_hessian[i * 6 + j] != ds.rest_hessian[j * 6 + i])
@@ -88,6 +92,7 @@ Dataset read_dataset(const std::string& path) {
   if (rest.has_attr("lattice_relaxed")) ds.lattice_relaxed = rest.attr_doubles("lattice_relaxed");
   if (rest.has_attr("grad0")) ds.grad0 = rest.attr_doubles("grad0");
   if (rest.has_attr("hessian")) ds.rest_hessian = rest.attr_doubles("hessian");
+  if (rest.has_attr("rve_tiles")) ds.rve_tiles = rest.attr_doubles("rve_tiles");
   if (rest.has("q")) {
     ds.rest_q = rest.read_double("q", {-1}).data;
     check_finite(ds.rest_q, path, "/rest/q");
@@ -151,6 +156,7 @@ void write_dataset(const std::string& path, const Dataset& ds) {
     if (!ds.lattice_relaxed.empty()) rest.set_attr("lattice_relaxed", ds.lattice_relaxed);
     if (!ds.grad0.empty()) rest.set_attr("grad0", ds.grad0);
     if (!ds.rest_hessian.empty()) rest.set_attr("hessian", ds.rest_hessian);
+    if (!ds.rve_tiles.empty()) rest.set_attr("rve_tiles", ds.rve_tiles);
     rest.write("q", ds.rest_q, {ds.rest_q.size()});
     h5::Node terms = root.create_group("terms");
     for (const TermData& t : ds.terms) {

@@ -6,7 +6,9 @@
 //   /rest                  attrs: psi0 (J/m^2), [lattice_original[4], lattice_relaxed[4]
 //                                 (m; rows: the tile's two lattice vectors), grad0[6] (dPsi/ds
 //                                 at s = 0), hessian[36] (d2Psi/ds2 at s = 0, row-major,
-//                                 measured on the RVE: yarn/rest_hessian.hpp)]; datasets: q
+//                                 measured on the RVE: yarn/rest_hessian.hpp), rve_tiles[2]
+//                                 (the RVE is the pattern's tile repeated NX x NY; absent: 1 x 1)];
+//                                 datasets: q
 //                                 (rest solution)
 //   /terms/<name>/strain   float64 [N, d]
 //   /terms/<name>/energy   float64 [N]
@@ -48,6 +50,9 @@ struct Dataset {
   std::vector<double> rest_hessian;      // [6, 6] row-major d2Psi/ds2 at s = 0, symmetric; what
                                          // the training holds the networks' curvatures at rest to
   double areal_density = NAN;            // kg/m^2 of the reference tile; NaN: unknown
+  std::vector<double> rve_tiles;         // [2] NX, NY (whole numbers >= 1) when the RVE was a patch
+                                         // of the pattern's tile; empty: one tile. The lattices and
+                                         // rest_q are then the patch's.
 
   const TermData* find(const std::string& name) const;
 };

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/atomic_file.hpp"
@@ -68,6 +69,19 @@ inline std::vector<int> parse_ints(const std::string& text, const std::string& w
     out.push_back(int(x));
   }
   return out;
+}
+
+// "NX,NY": how many times a pattern's tile repeats along x and y in a patch RVE (`rve --tile`,
+// `produce --tile`).
+inline std::pair<int, int> parse_tiles(const std::string& text, const std::string& what) {
+  std::vector<int> v;
+  try {
+    v = parse_ints(text, what, 64);
+  } catch (const std::invalid_argument&) {
+    v.clear();
+  }
+  if (v.size() != 2) throw std::invalid_argument(what + ": expected two integers NX,NY in [1, 64], got '" + text + "'");
+  return {v[0], v[1]};
 }
 
 // Option validators. CLI11's PositiveNumber and Range let NaN through (it compares false with

@@ -81,10 +81,7 @@ void run(const RveOpts& o) {
   for (int k = 0; k < 6; ++k)
     if (std::string rule = strain_domain_violation(k, s[k]); !rule.empty()) throw std::invalid_argument("--strain: " + rule);
   const yarn::Material mat = o.material.empty() ? yarn::Material{} : yarn::load_material(o.material);
-  const std::vector<double> tv = parse_numbers(o.tile, "--tile");
-  if (tv.size() != 2 || tv[0] < 1 || tv[1] < 1 || tv[0] > 64 || tv[1] > 64 || tv[0] != std::floor(tv[0]) || tv[1] != std::floor(tv[1]))
-    throw std::invalid_argument("--tile: expected two integers NX,NY in [1, 64], got '" + o.tile + "'");
-  const int nx = int(tv[0]), ny = int(tv[1]);
+  const auto [nx, ny] = parse_tiles(o.tile, "--tile");
   const yarn::Pattern base = load_pattern(o.pattern);
   const yarn::Pattern pattern = nx * ny > 1 ? yarn::tile(base, nx, ny) : base;
   if (!o.certify.empty()) {

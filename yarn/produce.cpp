@@ -95,6 +95,7 @@ std::string fingerprint(const Pattern& p, const ProduceOptions& opt) {
     << " sectors=" << std::max(1, opt.sectors)
     << " start=" << (!opt.warm_start ? "cold" : opt.predictor ? "warm+predictor" : "warm")
     << " branch=" << (opt.warm_start ? opt.branch_rounds : 0) << "/" << opt.branch_tolerance << "/direct40";
+  if (opt.tiles_x * opt.tiles_y > 1) f << " rve=" << opt.tiles_x << "x" << opt.tiles_y;
   for (const auto& t : opt.terms) f << " " << t.name;
   for (int i = 0; i < 6; ++i) {
     const Range r = pattern_range(p.name, i, opt.ranges);
@@ -119,9 +120,20 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   rest_opt.solve = opt.solve;
   rest_opt.solve.sensitivity_directions.clear();
   rest_opt.max_seconds = opt.rest_time_limit;
+  if (opt.tiles_x < 1 || opt.tiles_y < 1 || opt.tiles_x > 64 || opt.tiles_y > 64)
+    throw std::invalid_argument("produce: the RVE's tiles must be 1..64 in each direction, got " +
+                                std::to_string(opt.tiles_x) + " x " + std::to_string(opt.tiles_y));
+  const int copies = opt.tiles_x * opt.tiles_y;
   RestTile tile = [&] {
     try {
-      return relax_tile(pattern, opt.material, rest_opt);
+      RestTile one = relax_tile(pattern, opt.material, rest_opt);
+      if (copies == 1) return one;
+      // A patch is the relaxed tile repeated, in the same reference map: the same rest, so the
+      // same Psi0 and a stress-free s = 0 (a cold relaxation of the patch could settle in
+      // another local minimum, and the data would no longer extend one tile's).
+      return RestTile{RveProblem(yarn::tile(pattern, opt.tiles_x, opt.tiles_y), opt.material, RveOptions{},
+                                 one.rve.reference()),
+                      tile_state(one.state, copies), one.report};
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(std::string("produce: ") + e.what());
     }
@@ -615,7 +627,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   ds.rest_q.resize(rest.packed().size());
   Eigen::VectorXd::Map(ds.rest_q.data(), ds.rest_q.size()) = rest.packed();
   const Eigen::Matrix2d L = rve.lattice();
-  ds.lattice_original = {pattern.px, 0.0, 0.0, pattern.py};
+  ds.lattice_original = {pattern.px * opt.tiles_x, 0.0, 0.0, pattern.py * opt.tiles_y};
+  if (copies > 1) ds.rve_tiles = {double(opt.tiles_x), double(opt.tiles_y)};
   ds.lattice_relaxed = {L(0, 0), L(1, 0), L(0, 1), L(1, 1)};
   ds.grad0.assign(r0.grad.data(), r0.grad.data() + 6);
   if (rep.rest_hessian.ok)  // symmetric: its storage order is row-major as well
@@ -624,7 +637,9 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   {
     std::ostringstream note;
     note.precision(9);
-    note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start")
+    note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start");
+    if (copies > 1) note << "; RVE: " << opt.tiles_x << " x " << opt.tiles_y << " tiles";
+    note
          << "; rest: " << (opt.free_period ? "stress-free tile, relaxed from the pattern's period by (s_x, s_a, s_y) = ("
                                            : "the pattern's period, pre-stressed (")
          << tile.report.strain[0] << ", " << tile.report.strain[1] << ", " << tile.report.strain[2]

@@ -28,6 +28,10 @@ struct ProduceOptions {
   bool predictor = true;                 // warm starts add the first-order continuation step
   bool free_period = true;               // s = 0 is the stress-free tile (yarn/rest.hpp); false:
                                          // the pattern's own period (pre-stressed)
+  // The RVE: the pattern's relaxed tile repeated tiles_x x tiles_y times (docs/produce.md, "One
+  // tile can be too small an RVE"). Psi is per reference area, so a patch samples the same
+  // material; it lets neighbouring tiles buckle and slide differently, which one tile cannot.
+  int tiles_x = 1, tiles_y = 1;
   Material material;
   std::map<int, Range> ranges;           // per strain index, overriding the pattern's defaults
   SolveOptions solve;

@@ -158,7 +158,8 @@ TEST(Validation, InvalidOptionsAreRefusedNamingThem) {
                                "--terms ''", "--hidden 0,4", "--stencil-eps 0", "--off-domain -1"})
     expect_refused(train + o, {o.substr(0, o.find(' '))});
   const std::string produce = "produce stockinette -o " + d / "ds.h5 --terms 0 ";
-  for (const std::string o : {"--threads -3", "--sectors 0", "--sectors -1", "--terms ''", "--preset huge"})
+  for (const std::string o : {"--threads -3", "--sectors 0", "--sectors -1", "--terms ''", "--preset huge", "--tile 0,1",
+                               "--tile 2", "--tile 1.5,1", "--tile 65,1"})
     expect_refused(produce + o, {o.substr(0, o.find(' '))});
   std::ofstream(d / "ranges.txt") << "0 -0.1 0.5\nx y z\n";
   expect_refused(produce + "--ranges " + d / "ranges.txt", {d / "ranges.txt", "line 2"});

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <fstream>
 
+#include "core/dataset.hpp"
 #include "core/error.hpp"
 #include "tests/yarn/test_support.hpp"
 #include "yarn/generate.hpp"
@@ -155,6 +156,51 @@ TEST(Produce, InPlaneTermsHaveZeroGradientAtRest) {
   EXPECT_EQ(fixed.lattice_relaxed, fixed.lattice_original);
 }
 
+// produce --tile: the RVE is the relaxed tile repeated. Its rest is one tile's (Psi0, the rest
+// gradient and the state, copy after copy) and, where nothing buckles, the patch's in-plane
+// energies are the tile's: Psi is per area, the same material sampled on a larger RVE.
+TEST(Produce, PatchRveSamplesTheSameMaterial) {
+  ProduceOptions opt;
+  opt.preset = "tiny";
+  opt.terms = parse_term_list("0,2");
+  opt.ranges = {{0, {-0.01, 0.05}}, {2, {-0.01, 0.05}}};
+  const Pattern p = tiny();
+  const Dataset one = produce(p, opt);
+  opt.tiles_x = 2;
+  const Dataset two = produce(p, opt);
+  EXPECT_NEAR(two.psi0, one.psi0, 1e-12 * std::abs(one.psi0));
+  ASSERT_EQ(two.rest_q.size(), 2 * one.rest_q.size());
+  for (size_t i = 0; i < one.rest_q.size(); ++i) {
+    EXPECT_EQ(two.rest_q[i], one.rest_q[i]) << i;
+    EXPECT_EQ(two.rest_q[i + one.rest_q.size()], one.rest_q[i]) << i;
+  }
+  EXPECT_EQ(two.rve_tiles, (std::vector<double>{2, 1}));
+  EXPECT_TRUE(one.rve_tiles.empty());
+  EXPECT_EQ(two.lattice_original[0], 2 * p.px);
+  EXPECT_EQ(two.lattice_original[3], p.py);
+  EXPECT_NEAR(two.lattice_relaxed[0], 2 * one.lattice_relaxed[0], 1e-15);
+  EXPECT_NEAR(two.areal_density, one.areal_density, 1e-12 * one.areal_density);
+  ASSERT_EQ(two.terms.size(), one.terms.size());
+  for (size_t t = 0; t < one.terms.size(); ++t) {
+    const TermData &a = one.terms[t], &b = two.terms[t];
+    ASSERT_EQ(a.n, b.n);
+    double emax = 0;
+    for (double e : a.raw) emax = std::max(emax, std::abs(e));
+    ASSERT_GT(emax, 0.0);
+    for (int i = 0; i < a.n; ++i) {
+      EXPECT_NEAR(b.raw[i], a.raw[i], 1e-6 * emax) << a.term.name << " at " << a.strain[i];
+      EXPECT_NEAR(b.gradient[i], a.gradient[i], 1e-5 * std::abs(a.gradient.back())) << a.term.name << " at " << a.strain[i];
+    }
+  }
+  // Written and read back with the patch's size.
+  const std::string f = ::testing::TempDir() + "patch_dataset.h5";
+  write_dataset(f, two);
+  EXPECT_EQ(read_dataset(f).rve_tiles, two.rve_tiles);
+  std::filesystem::remove(f);
+  opt.tiles_x = 0;
+  EXPECT_THROW(produce(p, opt), std::invalid_argument);
+}
+
 namespace {
 std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -277,6 +323,9 @@ TEST(Produce, KilledRunResumesToTheSameDatasetBitForBit) {
   other.sectors = 4;  // other parents: the same samples would not come out
   EXPECT_NE(refusal(other).find("it has 'sectors=8' where this run has 'sectors=4'"), std::string::npos)
       << refusal(other);
+  other = opt;
+  other.tiles_x = 2;  // a patch RVE: states of another size
+  EXPECT_NE(refusal(other).find("rve=2x1"), std::string::npos) << refusal(other);
   other = opt;
   other.branch_rounds = opt.branch_rounds + 1;
   EXPECT_NE(refusal(other).find("branch=" + std::to_string(opt.branch_rounds + 1) + "/"), std::string::npos)
