@@ -229,8 +229,8 @@ void register_produce(CLI::App& app) {
   cmd->add_option("--tile", o->tile,
                   "NX,NY: the RVE is the pattern's relaxed tile repeated NX x NY times (default 1,1). Psi is per "
                   "area, so a patch samples the same material, but lets neighbouring tiles buckle and slide "
-                  "differently; where one tile is too small an RVE (docs/produce.md: the cartridge belt rib's "
-                  "course, the shear couplings) its data are smoother. Costs about 13x the solve time at 2,2");
+                  "differently, which one tile cannot (docs/produce.md, \"One tile can be too small an RVE\": the "
+                  "cartridge belt rib's course; the shear couplings' data). Costs 13-27x the solve time at 2,2");
   cmd->add_option("--material", o->material,
                   "Yarn material: a file of 'key = value' lines, or a built-in name: hylc-calibrated (the default), "
                   "yarnhom-2025 (the constants before issue 10); docs/yarn_material.md");
