@@ -82,6 +82,14 @@ FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, con
 // "; the data's own gradients and energies disagree by 43% of the mean gradient: not smooth data".
 std::string fit_verdict(const FitQuality& q);
 
+// Why a baked table can miss the data where its network fits them (docs/bake.md): for a 1D term
+// the end repair, for a 2D term the edge slope and corner twist repairs (where the total falls
+// outward), and for both the interpolation.
+inline const char* baked_table_cause(int dim) {
+  return dim == 1 ? "1D end repair or interpolation"
+                  : "edge slope or corner twist repair where the total falls outward, or interpolation";
+}
+
 // The data inconsistency above, relative to grad_mean (-1 when the points do not form a grid).
 double data_inconsistency(const TermData& data, double grad_mean);
 

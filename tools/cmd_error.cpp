@@ -242,10 +242,8 @@ void register_error(CLI::App& app) {
         const FitQuality& qa = r.has_net ? r.net_all : r.all_q;
         std::string verdict = fit_verdict(q);
         failed += !q.ok();
-        if (r.has_net && !r.val_q.ok()) verdict += q.ok() ? (r.term.size() == 1 ? "; the BAKED table fails (1D end repair or interpolation)"
-                                                   : "; the BAKED table fails (edge slope or corner twist repair where the "
-                                                     "total falls outward, or interpolation)")
-                             : "";
+        if (r.has_net && !r.val_q.ok() && q.ok())
+          verdict += std::string("; the BAKED table fails (") + baked_table_cause(int(r.term.size())) + ")";
         char dg[32] = "-", vs[32] = "-", as[32] = "-";
         if (qa.data_inconsistency >= 0) std::snprintf(dg, sizeof dg, "%.3g", 100 * qa.data_inconsistency);
         if (q.small_stress_rel >= 0) std::snprintf(vs, sizeof vs, "%.3g", 100 * q.small_stress_rel);

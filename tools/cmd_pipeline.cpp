@@ -183,9 +183,7 @@ void register_pipeline(CLI::App& app) {
         if (tail.size() >= 4 && !tail[1].empty() && tail[3] != "1")
           baked_note = "; baked table: energy " + std::to_string(100 * std::stod(tail[1])).substr(0, 5) +
                        "%, gradient " + std::to_string(100 * std::stod(tail[2])).substr(0, 6) +
-                       (cols[0].size() == 1 ? "% (bake's 1D end repair or interpolation, docs/bake.md)"
-                                            : "% (bake's edge slope or corner twist repair where the total falls "
-                                              "outward, or interpolation; docs/bake.md)");
+                       "% (bake's " + baked_table_cause(int(cols[0].size())) + "; docs/bake.md)";
         // tail[4]: the validation small-stress error of a 1D term (empty for 2D terms)
         char small[48] = "";
         if (tail.size() >= 5 && !tail[4].empty())

@@ -116,12 +116,10 @@ void run(const RveOpts& o) {
     ro.max_seconds = o.time_limit;
     ro.verbose = o.verbose;
     ro.record_path = !o.out.empty();
-    // A tiling is the same material on a larger RVE: its rest is the pattern's relaxed rest
-    // repeated, in the same reference (a cold relaxation of the larger tile could find another
-    // local minimum, which is not what a tile-size study compares).
-    yarn::RestTile tile = yarn::relax_tile(base, mat, ro);
-    rve = std::make_unique<yarn::RveProblem>(pattern, mat, yarn::RveOptions{}, tile.rve.reference());
-    st = yarn::tile_state(tile.state, nx * ny);
+    // A tiling is the same material on a larger RVE: the pattern's relaxed rest repeated.
+    yarn::RestTile tile = yarn::repeat_rest(base, yarn::relax_tile(base, mat, ro), nx, ny);
+    rve = std::make_unique<yarn::RveProblem>(std::move(tile.rve));
+    st = std::move(tile.state);
     rest = tile.report;
     relaxed = true;
     if (!o.pattern_out.empty()) {

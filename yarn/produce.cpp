@@ -126,14 +126,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   const int copies = opt.tiles_x * opt.tiles_y;
   RestTile tile = [&] {
     try {
-      RestTile one = relax_tile(pattern, opt.material, rest_opt);
-      if (copies == 1) return one;
-      // A patch is the relaxed tile repeated, in the same reference map: the same rest, so the
-      // same Psi0 and a stress-free s = 0 (a cold relaxation of the patch could settle in
-      // another local minimum, and the data would no longer extend one tile's).
-      return RestTile{RveProblem(yarn::tile(pattern, opt.tiles_x, opt.tiles_y), opt.material, RveOptions{},
-                                 one.rve.reference()),
-                      tile_state(one.state, copies), one.report};
+      // A patch keeps one tile's rest: the same Psi0 and a stress-free s = 0.
+      return repeat_rest(pattern, relax_tile(pattern, opt.material, rest_opt), opt.tiles_x, opt.tiles_y);
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(std::string("produce: ") + e.what());
     }
@@ -637,9 +631,8 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   {
     std::ostringstream note;
     note.precision(9);
-    note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start");
-    if (copies > 1) note << "; RVE: " << opt.tiles_x << " x " << opt.tiles_y << " tiles";
-    note
+    note << "yarnhom produce, preset " << opt.preset << ", " << (opt.warm_start ? "warm start" : "cold start")
+         << (copies > 1 ? "; RVE: " + std::to_string(opt.tiles_x) + " x " + std::to_string(opt.tiles_y) + " tiles" : "")
          << "; rest: " << (opt.free_period ? "stress-free tile, relaxed from the pattern's period by (s_x, s_a, s_y) = ("
                                            : "the pattern's period, pre-stressed (")
          << tile.report.strain[0] << ", " << tile.report.strain[1] << ", " << tile.report.strain[2]

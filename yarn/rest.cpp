@@ -82,6 +82,12 @@ RveState tile_state(const RveState& st, int copies) {
   return out;
 }
 
+RestTile repeat_rest(const Pattern& pattern, const RestTile& one, int nx, int ny) {
+  if (nx * ny == 1) return one;  // nothing to repeat (tile(p, 1, 1) would only rename the pattern)
+  return RestTile{RveProblem(tile(pattern, nx, ny), one.rve.material(), one.rve.options(), one.rve.reference()),
+                  tile_state(one.state, nx * ny), one.report};
+}
+
 double relative_stress(const RveProblem& rve, const Strain& dEds) {
   const auto& L = rve.pattern().rest_length;
   const double total = std::accumulate(L.begin(), L.end(), 0.0);

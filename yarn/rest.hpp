@@ -88,6 +88,12 @@ RestTile relax_tile(const Pattern& pattern, const Material& material, const Rest
 // study compares the two under the same strain).
 RveState tile_state(const RveState& state, int copies);
 
+// The relaxed rest `one` of `pattern`, repeated nx x ny times: the RVE tile(pattern, nx, ny) in
+// one's reference map, with one's state on every copy and one's report. A larger RVE of the same
+// material (`rve --tile`, `produce --tile`); a cold relaxation of the patch could settle in
+// another local minimum, and its data would no longer extend one tile's.
+RestTile repeat_rest(const Pattern& pattern, const RestTile& one, int nx, int ny);
+
 // The in-plane stress measure of RestReport::stress for a dE/ds.
 double relative_stress(const RveProblem& rve, const Strain& dEds);
 

@@ -102,6 +102,7 @@ class RveProblem {
   const Pattern& pattern() const { return p_; }
   const Topology& topo() const { return topo_; }
   const Material& material() const { return m_; }
+  const RveOptions& options() const { return opt_; }
   const Eigen::Matrix2d& reference() const { return F0_; }
   // Lattice vectors of the reference tile (columns): F0 diag(px, py).
   Eigen::Matrix2d lattice() const;
