@@ -44,7 +44,7 @@ Eigen::Matrix3Xd align_surface_to_points(const Eigen::Matrix3Xd& V, const Eigen:
 
 }  // namespace yarnhom
 
-#include "accuracy/obj_read.hpp"
+#include "io/obj_read.hpp"
 #include "core/error.hpp"
 
 namespace yarnhom {

@@ -5,7 +5,7 @@
 // knots (at any resolution up to the grid's), so that the interpolation error is seen.
 #include <vector>
 
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "bake/term_function.hpp"
 
 namespace yarnhom {

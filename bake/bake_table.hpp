@@ -7,7 +7,7 @@
 // edge slope repair of its boundary knots' outward derivatives where the total falls outward
 // at the box (bake/edge_slope_repair.hpp; no interior 2D knot is ever changed, nor any knot
 // value); the safeguard coefficients implied by those knots
-// (bake/baked_eval.hpp); and, per term pair, what the total energy does at the box
+// (material/baked_eval.hpp); and, per term pair, what the total energy does at the box
 // (bake/pair_check.hpp).
 #include <array>
 #include <string>

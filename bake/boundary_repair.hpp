@@ -9,7 +9,7 @@
 // negative one can only be removed in the table. A 2D term is a residual Psi_IJ = Psi - Psi_I -
 // Psi_J (zero on the axes), which may legitimately fall outward (a Poisson coupling c s_x s_y
 // along -s_y where s_x > 0): its table is the network's everywhere, and its continuation is
-// first order (bake/baked_eval.hpp), so it never bends the total energy down in a band.
+// first order (material/baked_eval.hpp), so it never bends the total energy down in a band.
 //
 // The correction. Let w be the layer width (5 % of the box's width, at least 2 knot spacings)
 // and xi in [0, 1] the position across the layer (1 on the boundary). With rho1(xi) = xi^3 (xi -

@@ -27,7 +27,7 @@
 #include <array>
 #include <string>
 
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "core/baked.hpp"
 
 namespace yarnhom {

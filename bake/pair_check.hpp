@@ -3,7 +3,7 @@
 // plane of strains I and J (the others 0) the total is Psi_I(s_I) + Psi_J(s_J) + Psi_IJ(s_I, s_J)
 // plus constants (every other residual vanishes there with its gradient). Outside the box the
 // safeguard makes each 1D term a convex quadratic and each residual first order along the
-// outward normal (bake/baked_eval.hpp), so along every outward ray of an edge band the total's
+// outward normal (material/baked_eval.hpp), so along every outward ray of an edge band the total's
 // slope is non-decreasing by construction, starting from the total's outward slope at the box.
 // Two things the continuation cannot change without changing the data, and which bake
 // therefore reports per pair instead:
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "core/baked.hpp"
 
 namespace yarnhom {

@@ -8,16 +8,16 @@
 // large stretch dominate; a network can pass them and still have the wrong sign of curvature
 // at rest, where the data's energy is 1e-5 of the range (basket's shear term: curvature -0.087
 // J/m^2 at s_a = 0 against the data's +0.05; its continuum strip shears to s_a = -0.09 at rest,
-// docs/accuracy.md, fourth run). This check sees that.
+// docs/accuracy_rows.md, "A material unstable at rest"). This check sees that.
 //
 // Definiteness is judged on the Hessian scaled to unit diagonal magnitude (core/scaled_eigen.hpp),
-// as the RVE's own rest Hessian is (yarn/rest_hessian.hpp, the dataset's /rest hessian).
+// as the RVE's own rest Hessian is (yarn/rve/rest_hessian.hpp, the dataset's /rest hessian).
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
 
-#include "bake/material.hpp"
+#include "material/material.hpp"
 
 namespace yarnhom {
 
@@ -33,7 +33,7 @@ struct RestCheck {
 RestCheck check_rest(const BakedMaterial& mat, double tolerance = 1e-9);
 
 // What the RVE itself says, for the line beside the material's: "; the RVE's own rest ..." from a
-// dataset's measured rest Hessian ([36], Dataset::rest_hessian; yarn/rest_hessian.hpp), or ""
+// dataset's measured rest Hessian ([36], Dataset::rest_hessian; yarn/rve/rest_hessian.hpp), or ""
 // when it has none. A material that is unstable where the RVE is stable is a fit error; one that
 // follows an unstable RVE is the pattern's physics.
 std::string rve_rest_note(const std::vector<double>& rest_hessian);

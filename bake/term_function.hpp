@@ -6,7 +6,7 @@
 #include <functional>
 #include <vector>
 
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "core/model.hpp"
 
 namespace yarnhom {

@@ -5,14 +5,11 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
+#include "core/term_attrs.hpp"
 
 namespace yarnhom {
 
-const BakedTable* BakedModel::find(const std::string& name) const {
-  for (const BakedTable& t : tables)
-    if (t.term.name == name) return &t;
-  return nullptr;
-}
+const BakedTable* BakedModel::find(const std::string& name) const { return find_term(tables, name); }
 
 namespace {
 
@@ -73,9 +70,7 @@ void write_baked(const std::string& path, const BakedModel& m) {
   validate_baked(m, path);
   AtomicOutput out(path);
   {
-    h5::Node root = h5::create_file(out.temp_path());
-    root.set_attr("format", kBakedFormat);
-    root.set_attr("version", kBakedVersion);
+    h5::Node root = h5::create_file(out.temp_path(), kBakedFormat, kBakedVersion);
     root.set_attr("model", m.model);
     root.set_attr("dataset", m.dataset);
     root.set_attr("psi0", m.psi0);
@@ -84,16 +79,9 @@ void write_baked(const std::string& path, const BakedModel& m) {
     h5::Node tables = root.create_group("tables");
     for (const BakedTable& t : m.tables) {
       h5::Node g = tables.create_group(t.term.name);
-      g.set_attr("indices", t.term.indices);
-      g.set_attr("lower", t.lower);
-      g.set_attr("upper", t.upper);
+      write_box_attrs(g, t.term, t.lower, t.upper);
       g.set_attr("knots", t.knots);
-      g.set_attr("activation", t.desc.activation);
-      g.set_attr("hidden", t.desc.hidden);
-      g.set_attr("in_center", t.norm.center);
-      g.set_attr("in_halfwidth", t.norm.halfwidth);
-      g.set_attr("out_mean", t.norm.out_mean);
-      g.set_attr("out_std", t.norm.out_std);
+      write_network_attrs(g, t.desc, t.norm);
       g.set_attr("epochs", t.epochs);
       g.set_attr("backend", t.backend);
       g.set_attr("status", t.status);

@@ -1,6 +1,6 @@
 #pragma once
 // The baked file (spec section 8), written by `yarnhom bake`, read by the baked evaluator
-// (bake/baked_eval.hpp) and so by a cloth simulator. Every term is a Hermite table over its
+// (material/baked_eval.hpp) and so by a cloth simulator. Every term is a Hermite table over its
 // box; outside the box the safeguard extends it (docs/bake.md has the formulas).
 //
 //   /                       attrs: format="yarnhom-baked", version=1, model, dataset,
@@ -101,7 +101,7 @@ bool is_baked_file(const std::string& path);
 
 // Reads and checks shapes, finiteness and boxes; throws FileError naming the file, the object
 // and the problem. (Agreement of the safeguard coefficients with the knots is checked by the
-// evaluator, bake/baked_eval.hpp, which can recompute them.)
+// evaluator, material/baked_eval.hpp, which can recompute them.)
 BakedModel read_baked(const std::string& path);
 // Checks the same invariants in memory (file is used in messages only).
 void validate_baked(const BakedModel& m, const std::string& file);

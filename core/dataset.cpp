@@ -8,11 +8,7 @@
 
 namespace yarnhom {
 
-const TermData* Dataset::find(const std::string& name) const {
-  for (const TermData& t : terms)
-    if (t.term.name == name) return &t;
-  return nullptr;
-}
+const TermData* Dataset::find(const std::string& name) const { return find_term(terms, name); }
 
 namespace {
 
@@ -142,9 +138,7 @@ void write_dataset(const std::string& path, const Dataset& ds) {
   validate_dataset(ds, path);
   AtomicOutput out(path);
   {
-    h5::Node root = h5::create_file(out.temp_path());
-    root.set_attr("format", kDatasetFormat);
-    root.set_attr("version", kDatasetVersion);
+    h5::Node root = h5::create_file(out.temp_path(), kDatasetFormat, kDatasetVersion);
     root.set_attr("pattern", ds.pattern);
     root.set_attr("units", "SI");
     root.set_attr("source", ds.source);

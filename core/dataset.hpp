@@ -6,7 +6,7 @@
 //   /rest                  attrs: psi0 (J/m^2), [lattice_original[4], lattice_relaxed[4]
 //                                 (m; rows: the tile's two lattice vectors), grad0[6] (dPsi/ds
 //                                 at s = 0), hessian[36] (d2Psi/ds2 at s = 0, row-major,
-//                                 measured on the RVE: yarn/rest_hessian.hpp), rve_tiles[2]
+//                                 measured on the RVE: yarn/rve/rest_hessian.hpp), rve_tiles[2]
 //                                 (the RVE is the pattern's tile repeated NX x NY; absent: 1 x 1)];
 //                                 datasets: q
 //                                 (rest solution)

@@ -60,6 +60,13 @@ Node create_file(const std::string& path) {
   return Node(own(f, H5Fclose), path, "/");
 }
 
+Node create_file(const std::string& path, const std::string& format, int version) {
+  Node root = create_file(path);
+  root.set_attr("format", format);
+  root.set_attr("version", version);
+  return root;
+}
+
 std::string Node::child_path(const std::string& name) const {
   return path_ == "/" ? "/" + name : path_ + "/" + name;
 }

@@ -99,5 +99,8 @@ std::string shape_string(const std::vector<hsize_t>& dims);
 Node open_file(const std::string& path);
 // Create (truncate) for writing.
 Node create_file(const std::string& path);
+// A new file stamped with its format's name and version (the root attributes `format` and
+// `version` every yarnhom file carries, docs/conventions.md).
+Node create_file(const std::string& path, const std::string& format, int version);
 
 }  // namespace yarnhom::h5

@@ -4,14 +4,11 @@
 
 #include "core/atomic_file.hpp"
 #include "core/h5.hpp"
+#include "core/term_attrs.hpp"
 
 namespace yarnhom {
 
-const ModelNetwork* Model::find(const std::string& name) const {
-  for (const ModelNetwork& n : networks)
-    if (n.term.name == name) return &n;
-  return nullptr;
-}
+const ModelNetwork* Model::find(const std::string& name) const { return find_term(networks, name); }
 
 namespace {
 
@@ -60,24 +57,15 @@ void check_number(const h5::Node& g, const char* what, double v, bool positive) 
 void write_model(const std::string& path, const Model& model) {
   AtomicOutput out(path);
   {
-    h5::Node root = h5::create_file(out.temp_path());
-    root.set_attr("format", kModelFormat);
-    root.set_attr("version", kModelVersion);
+    h5::Node root = h5::create_file(out.temp_path(), kModelFormat, kModelVersion);
     root.set_attr("dataset", model.dataset);
     root.set_attr("seed", static_cast<int64_t>(model.seed));
     if (!std::isnan(model.areal_density)) root.set_attr("areal_density", model.areal_density);
     h5::Node nets = root.create_group("networks");
     for (const ModelNetwork& n : model.networks) {
       h5::Node g = nets.create_group(n.term.name);
-      g.set_attr("indices", n.term.indices);
-      g.set_attr("lower", n.lower);
-      g.set_attr("upper", n.upper);
-      g.set_attr("activation", n.desc.activation);
-      g.set_attr("hidden", n.desc.hidden);
-      g.set_attr("in_center", n.norm.center);
-      g.set_attr("in_halfwidth", n.norm.halfwidth);
-      g.set_attr("out_mean", n.norm.out_mean);
-      g.set_attr("out_std", n.norm.out_std);
+      write_box_attrs(g, n.term, n.lower, n.upper);
+      write_network_attrs(g, n.desc, n.norm);
       g.set_attr("w_Z", n.weights.z);
       g.set_attr("w_F", n.weights.f);
       g.set_attr("w_C", n.weights.c);

@@ -2,7 +2,7 @@
 // Definiteness of a Hessian in d2Psi/ds2 units: strains and curvatures have different units, so
 // its eigenvalues are compared after scaling it to unit diagonal magnitude, D H D with
 // D = diag(1 / sqrt(|H_ii|)) (a diagonal congruence keeps the signs of the eigenvalues).
-// One definition for the RVE's measured rest Hessian (yarn/rest_hessian.hpp) and the fitted
+// One definition for the RVE's measured rest Hessian (yarn/rve/rest_hessian.hpp) and the fitted
 // material's (bake/rest_check.hpp), so that the two are judged alike.
 #include <Eigen/Dense>
 #include <cmath>

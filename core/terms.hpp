@@ -43,4 +43,13 @@ struct Range {
 };
 Range default_range(int strain_index, double bend_x = 200.0, double bend_y = 200.0);
 
+// The entry of `items` (a dataset's terms, a model's networks, a baked file's tables: anything
+// with a .term) for the term called `name`, or null.
+template <class T>
+const T* find_term(const std::vector<T>& items, const std::string& name) {
+  for (const T& t : items)
+    if (t.term.name == name) return &t;
+  return nullptr;
+}
+
 }  // namespace yarnhom

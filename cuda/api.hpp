@@ -4,7 +4,7 @@
 // Same names, argument order and math as their CPU twins (cpu/mlp_jet.hpp, cpu/losses.hpp,
 // cpu/loss_step.hpp, cpu/adam.hpp); the pointers they take are *device* pointers (DeviceVec
 // below allocates and copies). float only. All of them run on the block-level building blocks
-// of cuda/jet_block.cuh, the same code the fused training kernel (cuda/cuda_backend.cu) runs, so
+// of cuda/jet_block.cuh, the same code the fused training kernel (train/cuda_backend.cu) runs, so
 // that testing a twin against its CPU twin tests the trainer's arithmetic; mlp_loss_grad of
 // the paper's Net-3 runs on the tensor-core warp path of cuda/mma_jet.cuh (same math, the
 // hidden-to-hidden products as 3xTF32 MMAs), and is tested on both paths.

@@ -50,9 +50,19 @@
 // per-lane registers), lanes are combined by fixed shuffle trees (xor 4, 8, 16 over the points,
 // xor 1, 2 over a point's neuron quarters), warps in warp order, blocks in block order. No
 // atomics.
+//
+// The MMA, the 3xTF32 split, the weights' fragments and the two kinds of product are in
+// cuda/mma_tf32.cuh; this file holds the per-warp gradient, one tile's passes and the write-back.
+#include <cstddef>
 #include <cstdint>
 
-#include "cuda/jet_block.cuh"
+#include "core/jet_layout.hpp"
+#include "core/offdomain.hpp"
+#include "cuda/batch_tasks.cuh"
+#include "cuda/jet_shape.cuh"
+#include "cuda/loss_jets.cuh"
+#include "cuda/mma_tf32.cuh"
+#include "cuda/sigmoid_jet.cuh"
 
 namespace yarnhom::cuda::detail {
 
@@ -79,89 +89,6 @@ inline constexpr int kMmaFragFloats = 4 * 8 * 32 * 4;
 
 #ifdef __CUDACC__
 
-// ---- the MMA and the 3xTF32 split ----
-struct Tf32x4 {
-  uint32_t big[4], small[4];
-};
-
-// tf32(x) rounded to nearest, ties away from zero: cvt.rna.tf32.f32 for finite x and infinities,
-// written as the two integer operations it amounts to (add half of the 13 dropped mantissa
-// bits to the magnitude, then clear them; a carry moves into the exponent as it should).
-// ptxas emits the PTX conversion as these two plus a compare that keeps NaN payloads intact
-// (seen in the SASS on sm_90); the split below is on the hot path (about 60 splits per point
-// at d = 2).
-__device__ inline uint32_t tf32_rna(float x) { return (__float_as_uint(x) + 0x1000u) & 0xffffe000u; }
-// x = big + small + O(2^-22 |x|), big and small TF32 (round to nearest); x - big is exact.
-__device__ inline void split_tf32(float x, uint32_t& big, uint32_t& small) {
-  big = tf32_rna(x);
-  small = tf32_rna(x - __uint_as_float(big));
-}
-__device__ inline Tf32x4 split4(float a0, float a1, float a2, float a3) {
-  Tf32x4 f;
-  split_tf32(a0, f.big[0], f.small[0]);
-  split_tf32(a1, f.big[1], f.small[1]);
-  split_tf32(a2, f.big[2], f.small[2]);
-  split_tf32(a3, f.big[3], f.small[3]);
-  return f;
-}
-
-// d += A B, one m16n8k8 TF32 MMA with FP32 accumulation.
-__device__ inline void mma_tf32(float4& d, const uint32_t (&a)[4], uint32_t b0, uint32_t b1) {
-  asm("mma.sync.aligned.m16n8k8.row.col.f32.tf32.tf32.f32 {%0,%1,%2,%3}, {%4,%5,%6,%7}, {%8,%9}, "
-      "{%0,%1,%2,%3};"
-      : "+f"(d.x), "+f"(d.y), "+f"(d.z), "+f"(d.w)
-      : "r"(a[0]), "r"(a[1]), "r"(a[2]), "r"(a[3]), "r"(b0), "r"(b1));
-}
-// 3xTF32: d += A B to about float accuracy. b = (b0 big, b1 big, b0 small, b1 small).
-__device__ inline void mma3(float4& d, const Tf32x4& a, const float4& b) {
-  const uint32_t b0b = __float_as_uint(b.x), b1b = __float_as_uint(b.y);
-  const uint32_t b0s = __float_as_uint(b.z), b1s = __float_as_uint(b.w);
-  mma_tf32(d, a.small, b0b, b1b);
-  mma_tf32(d, a.big, b0s, b1s);
-  mma_tf32(d, a.big, b0b, b1b);
-}
-__device__ inline void mma3(float4& d, const Tf32x4& a, uint32_t b0b, uint32_t b1b, uint32_t b0s, uint32_t b1s) {
-  mma_tf32(d, a.small, b0b, b1b);
-  mma_tf32(d, a.big, b0s, b1s);
-  mma_tf32(d, a.big, b0b, b1b);
-}
-
-// The lane-private float4 slot of a lane (lanes 8..15 and 24..31 swizzled, see above).
-__device__ inline int lslot(int lane) { return lane ^ (((lane >> 3) & 1) << 2); }
-
-// Element (row r of m-tile mt, neuron n) of a warp buffer whose rows hold NT neuron tiles.
-template <int NT>
-__device__ inline float buf_elem(const float* b, int mt, int r, int n) {
-  const int lane = (r & 7) * 4 + ((n & 7) >> 1);
-  return b[((mt * NT + (n >> 3)) * 32 + lslot(lane)) * 4 + (n & 1) + 2 * (r >> 3)];
-}
-
-// ---- weight fragments (once per block) ----
-// Fragment f of layer-matrix M (rows x cols, row-major at W with row stride ld), as the B
-// operand of k-tile kt and n-tile nt, with k along M's columns (forward: B = W^T, k = in,
-// n = out) when !trans, along M's rows (reverse: B = W, k = out, n = in) when trans. Lane
-// (g, t): b0 = (k = 8kt + 2t, n = 8nt + g), b1 = (k = 8kt + 2t + 1, n = 8nt + g).
-__device__ inline float4 make_bfrag(const float* W, int ld, bool trans, int kt, int nt, int lane) {
-  const int g = lane >> 2, t = lane & 3;
-  const int k0 = 8 * kt + 2 * t, n = 8 * nt + g;
-  const float v0 = trans ? W[k0 * ld + n] : W[n * ld + k0];
-  const float v1 = trans ? W[(k0 + 1) * ld + n] : W[n * ld + k0 + 1];
-  uint32_t b0, s0, b1, s1;
-  split_tf32(v0, b0, s0);
-  split_tf32(v1, b1, s1);
-  return make_float4(__uint_as_float(b0), __uint_as_float(b1), __uint_as_float(s0), __uint_as_float(s1));
-}
-// frag layout: [fwd1 (kt 2 x nt 4), bwd1 (kt 4 x nt 2), fwd2 (kt 4 x nt 2), bwd2 (kt 2 x nt 4)] x 32 lanes.
-__device__ inline void mma_prepare_frags(const NetShape& s, const float* W, float4* frag) {
-  for (int i = threadIdx.x; i < 4 * 8 * 32; i += blockDim.x) {
-    const int lane = i & 31, f = (i >> 5) & 7, which = i >> 8;
-    const int k = which < 2 ? 1 : 2;  // layer
-    const bool trans = which & 1;
-    const int nts = trans ? s.in[k] / 8 : s.out[k] / 8;
-    frag[i] = make_bfrag(W + s.woff[k], s.in[k], trans, f / nts, f % nts, lane);
-  }
-}
-
 // ---- per-warp gradient partials (registers), Net-3 ----
 template <int D>
 struct MmaGrad {
@@ -185,106 +112,19 @@ __device__ inline void zero(MmaGrad<D>& gr) {
   gr.db3 = 0.f;
 }
 
-// ---- the products ----
-// dst = src W^T (+ bias on channel 0) per m-tile: src has IN/8 neuron tiles (its stride SNT),
-// dst OUT/8 (stride DNT); frag: [IN/8][OUT/8] B fragments. Forward (W^T) and reverse (W) use
-// the same code with their own fragments; the reverse passes bias = nullptr.
-// U: m-tiles unrolled together (more independent MMA chains; more registers).
-template <int MT, int IN, int OUT, int SNT, int DNT, int U = 1>
-__device__ inline void mma_layer(const float4* src, float4* dst, const float4* frag, const float* bias, int lane) {
-  const int sl = lslot(lane), t = lane & 3;
-#pragma unroll(U)
-  for (int mt = 0; mt < MT; ++mt) {
-    Tf32x4 a[IN / 8];
-#pragma unroll
-    for (int kt = 0; kt < IN / 8; ++kt) {
-      const float4 v = src[(mt * SNT + kt) * 32 + sl];
-      a[kt] = split4(v.x, v.z, v.y, v.w);  // a0 = c0, a1 = c2, a2 = c1, a3 = c3
-    }
-    // Independent accumulator chains: with only 2 n-tiles (OUT = 16) the k-tiles alternate
-    // between two partial sums, added at the end, so that 4 MMA chains are in flight (a chain
-    // of dependent MMAs waits out the tensor pipe's latency at every step).
-    constexpr int NP = (OUT / 8 >= 4 || IN / 8 < 2) ? 1 : 2;
-#pragma unroll
-    for (int nt = 0; nt < OUT / 8; ++nt) {
-      float4 part[NP];
-#pragma unroll
-      for (int q = 0; q < NP; ++q) part[q] = make_float4(0.f, 0.f, 0.f, 0.f);
-#pragma unroll
-      for (int kt = 0; kt < IN / 8; ++kt) mma3(part[kt % NP], a[kt], frag[(kt * (OUT / 8) + nt) * 32 + lane]);
-      float4 acc = part[0];
-#pragma unroll
-      for (int q = 1; q < NP; ++q) {
-        acc.x += part[q].x;
-        acc.y += part[q].y;
-        acc.z += part[q].z;
-        acc.w += part[q].w;
-      }
-      if (bias != nullptr && mt == 0) {  // row g of m-tile 0 is channel 0
-        acc.x += bias[8 * nt + 2 * t];
-        acc.y += bias[8 * nt + 2 * t + 1];
-      }
-      dst[(mt * DNT + nt) * 32 + sl] = acc;
-    }
-  }
-}
-
-// acc[om][nt] += sum over the tile's rows of Zbar[row][16 om + .] A[row][8 nt + .]: the weight
-// gradient of a layer with OUT outputs (zbar: OUT/8 neuron tiles, stride ZNT) and IN inputs
-// (act: stride ANT). Reads other lanes' slots: the caller __syncwarp()s before and after.
-template <int MT, int OUT, int IN, int ZNT, int ANT>
-__device__ inline void mma_weight_grad(const float* zbar, const float* act, float4 (&acc)[OUT / 16][IN / 8],
-                                       int mts, int lane) {
-  const int g = lane >> 2, t = lane & 3;
-#pragma unroll 1
-  for (int mt = 0; mt < mts; ++mt) {
-#pragma unroll
-    for (int ks = 0; ks < 2; ++ks) {
-      const int r0 = 8 * ks + 2 * t, r1 = r0 + 1;
-      Tf32x4 a[OUT / 16];
-#pragma unroll
-      for (int om = 0; om < OUT / 16; ++om)
-        a[om] = split4(buf_elem<ZNT>(zbar, mt, r0, 16 * om + g), buf_elem<ZNT>(zbar, mt, r0, 16 * om + g + 8),
-                       buf_elem<ZNT>(zbar, mt, r1, 16 * om + g), buf_elem<ZNT>(zbar, mt, r1, 16 * om + g + 8));
-#pragma unroll
-      for (int nt = 0; nt < IN / 8; ++nt) {
-        uint32_t b0b, b0s, b1b, b1s;
-        split_tf32(buf_elem<ANT>(act, mt, r0, 8 * nt + g), b0b, b0s);
-        split_tf32(buf_elem<ANT>(act, mt, r1, 8 * nt + g), b1b, b1s);
-#pragma unroll
-        for (int om = 0; om < OUT / 16; ++om) mma3(acc[om][nt], a[om], b0b, b1b, b0s, b1s);
-      }
-    }
-  }
-}
-
-// Channel c of the lane's neuron e (0: 2t, 1: 2t + 1) in the float4 of m-tile c / 2.
-__device__ inline float& jet_comp(float4 (&q)[8], int c, int e) {
-  float4& v = q[c >> 1];
-  const int i = 2 * (c & 1) + e;
-  return i == 0 ? v.x : i == 1 ? v.y : i == 2 ? v.z : v.w;
-}
-
 // ---- one tile ----
-// The forward jets, losses and (when grad) the reverse pass of the points [begin, begin + np)
-// (np <= 8) of a batch's data (OFF = false, jets of order O) or off-domain points (OFF = true,
-// order O = 1), lane (g, t) working on point g. Adds the tile's gradient into gr and its loss
-// terms into ls (lanes with t = 0 of valid points).
-template <int D, int O, bool OFF, int MTB>
-__device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, const LossCfg& cfg,
-                         const BatchSrc& src, float inv_m, float inv_k, int begin, int np, float4* slot1,
-                         float4* slot2, float4* buf, bool grad, MmaGrad<D>& gr, Sums5& ls) {
-  constexpr int C = jet_channels(D, O), MT = mma_mtiles(D, O);
-  constexpr int NT1 = kMmaH1 / 8, NT2 = kMmaH2 / 8, NTB = kMmaH1 / 8;  // slot strides (neuron tiles)
-  // Loops over m-tiles or neuron tiles unrolled by 2 at d = 2 (8 warps per SM, 255 registers
-  // each: independent work per warp hides latency); not at d = 1 (16 warps, 128 registers).
-  constexpr int U = D == 2 ? 2 : 1;
-  const int lane = threadIdx.x & 31, g = lane >> 2, t = lane & 3, sl = lslot(lane);
-  const bool valid = g < np;
-  const float *W0 = W + s.woff[0], *b0 = W + s.boff[0], *W3 = W + s.woff[3];
+// The pieces of mma_tile below, in the order it runs them. The lane (g, t) works on point g of
+// the tile and on neurons 2t, 2t + 1 of every 8-wide neuron tile; sl is its slot (lslot).
+// Slot strides in neuron tiles: slot1 NT1, slot2 NT2, buf NTB.
+inline constexpr int kMmaNT1 = kMmaH1 / 8, kMmaNT2 = kMmaH2 / 8, kMmaNTB = kMmaH1 / 8;
 
-  // Inputs of point g (zeros for the unused rows of a short tile: finite jets, zero adjoints).
-  float x[D], aux[D], y = 0.f;  // aux: the data gradient g or the off-domain normal
+// Inputs of point begin + g of the batch's data (OFF = false: x, the data gradient in aux, y) or
+// off-domain points (OFF = true: x, the normal in aux); zeros when !valid (the unused rows of a
+// short tile: finite jets, zero adjoints).
+template <int D, bool OFF>
+__device__ __forceinline__ void mma_tile_inputs(const BatchSrc& src, int begin, int g, bool valid, float (&x)[D],
+                                                float (&aux)[D], float& y) {
+  y = 0.f;
 #pragma unroll
   for (int i = 0; i < D; ++i) x[i] = aux[i] = 0.f;
   if (valid) {
@@ -307,93 +147,95 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
       offdomain_point<float>(D, src.okey, uint64_t(p), x, aux);
     }
   }
+}
 
-  // Layer 0 (z = W0 x + b0; channel 1 + i is W0's column i; zero above) and its sigmoid jet,
-  // into buf as layer 1's input.
-  auto layer0_z = [&](int n, float* z) {
-    float acc = 0.f;
+// Layer 0's pre-activation jet of neuron n at the lane's point: z = W0 x + b0; channel 1 + i is
+// W0's column i; zero above.
+template <int D, int C>
+__device__ __forceinline__ void mma_layer0_z(const float* W0, const float* b0, const float (&x)[D], int n,
+                                             float (&z)[C]) {
+  float acc = 0.f;
 #pragma unroll
-    for (int i = 0; i < D; ++i) acc = fmaf(W0[n * D + i], x[i], acc);
-    z[0] = acc + b0[n];
+  for (int i = 0; i < D; ++i) acc = fmaf(W0[n * D + i], x[i], acc);
+  z[0] = acc + b0[n];
 #pragma unroll
-    for (int c = 1; c < C; ++c) z[c] = (c <= D) ? W0[n * D + (c - 1)] : 0.f;
-  };
+  for (int c = 1; c < C; ++c) z[c] = (c <= D) ? W0[n * D + (c - 1)] : 0.f;
+}
+
+// The sigmoid jet of neuron tile nt of a layer's z (slot, snt neuron tiles per row) into buf;
+// each(e, a) sees the activation jet a[C] of the lane's neuron e before it is stored.
+template <int D, int O, int MT, class Each>
+__device__ __forceinline__ void mma_sigmoid_tile(const float4* slot, int snt, int nt, float4* buf, int sl,
+                                                 Each&& each) {
+  constexpr int C = jet_channels(D, O);
+  float4 zq[8], aq[8];
+  load_jet_tiles<MT>(zq, slot, snt, nt, sl);
+#pragma unroll
+  for (int e = 0; e < 2; ++e) {
+    float z[C], a[C];
+    get_jet<C>(zq, e, z);
+    sigmoid_jet_point<D, O>(z, a, 1);
+    each(e, a);
+    put_jet<C, MT>(aq, e, a);
+  }
+  store_jet_tiles<MT>(aq, buf, kMmaNTB, nt, sl);
+}
+
+// The forward jets of the tile: layer 0 and its sigmoid jet into buf as layer 1's input, layers
+// 1 (16 -> 32) and 2 (32 -> 16) on the tensor cores (z1 into slot1, z2 into slot2), layer 2's
+// sigmoid jet (a2 into buf, for the reverse pass) and the output layer (16 -> 1): out[C], the
+// lane's partial sum over its 4 neurons, then over the quad (xor 1, 2; every lane of the quad
+// gets the same bits).
+template <int D, int O, int MT, int U>
+__device__ __forceinline__ void mma_tile_forward(const NetShape& s, const float* W, const float* W0, const float* b0,
+                                                 const float* W3, const float4* frag, const float (&x)[D],
+                                                 float4* slot1, float4* slot2, float4* buf, int lane,
+                                                 float (&out)[jet_channels(D, O)]) {
+  constexpr int C = jet_channels(D, O);
+  const int t = lane & 3, sl = lslot(lane);
 #pragma unroll
   for (int nt = 0; nt < kMmaH0 / 8; ++nt) {
     float4 aq[8];
 #pragma unroll
     for (int e = 0; e < 2; ++e) {
       float z[C], a[C];
-      layer0_z(8 * nt + 2 * t + e, z);
+      mma_layer0_z<D, C>(W0, b0, x, 8 * nt + 2 * t + e, z);
       sigmoid_jet_point<D, O>(z, a, 1);
-#pragma unroll
-      for (int c = 0; c < 2 * MT; ++c) jet_comp(aq, c, e) = c < C ? a[c] : 0.f;
+      put_jet<C, MT>(aq, e, a);
     }
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) buf[(mt * NTB + nt) * 32 + sl] = aq[mt];
+    store_jet_tiles<MT>(aq, buf, kMmaNTB, nt, sl);
   }
 
-  // The sigmoid jet of a layer's z (slot, NT neuron tiles) into buf.
-  auto sigmoid_fwd = [&](const float4* slot, int nts, int snt) {
+  mma_layer<MT, kMmaH0, kMmaH1, kMmaNTB, kMmaNT1, U>(buf, slot1, frag + 0 * 256, W + s.boff[1], lane);
 #pragma unroll(U)
-    for (int nt = 0; nt < nts; ++nt) {
-      float4 zq[8], aq[8];
-#pragma unroll
-      for (int mt = 0; mt < MT; ++mt) zq[mt] = slot[(mt * snt + nt) * 32 + sl];
-#pragma unroll
-      for (int e = 0; e < 2; ++e) {
-        float z[C], a[C];
-#pragma unroll
-        for (int c = 0; c < C; ++c) z[c] = jet_comp(zq, c, e);
-        sigmoid_jet_point<D, O>(z, a, 1);
-#pragma unroll
-        for (int c = 0; c < 2 * MT; ++c) jet_comp(aq, c, e) = c < C ? a[c] : 0.f;
-      }
-#pragma unroll
-      for (int mt = 0; mt < MT; ++mt) buf[(mt * NTB + nt) * 32 + sl] = aq[mt];
-    }
-  };
+  for (int nt = 0; nt < kMmaNT1; ++nt) mma_sigmoid_tile<D, O, MT>(slot1, kMmaNT1, nt, buf, sl, [](int, const float*) {});
+  mma_layer<MT, kMmaH1, kMmaH2, kMmaNTB, kMmaNT2, U>(buf, slot2, frag + 2 * 256, W + s.boff[2], lane);
 
-  // Layer 1 (16 -> 32) and 2 (32 -> 16) on the tensor cores.
-  mma_layer<MT, kMmaH0, kMmaH1, NTB, NT1, U>(buf, slot1, frag + 0 * 256, W + s.boff[1], lane);
-  sigmoid_fwd(slot1, NT1, NT1);
-  mma_layer<MT, kMmaH1, kMmaH2, NTB, NT2, U>(buf, slot2, frag + 2 * 256, W + s.boff[2], lane);
-
-  // Layer 2's sigmoid jet (a2 into buf, for the reverse pass) and the output layer (16 -> 1):
-  // the lane's partial sum over its 4 neurons, then over the quad (xor 1, 2; every lane of the
-  // quad gets the same bits).
-  float out[C];
 #pragma unroll
   for (int c = 0; c < C; ++c) out[c] = 0.f;
 #pragma unroll
-  for (int nt = 0; nt < NT2; ++nt) {
-    float4 zq[8], aq[8];
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) zq[mt] = slot2[(mt * NT2 + nt) * 32 + sl];
-#pragma unroll
-    for (int e = 0; e < 2; ++e) {
-      float z[C], a[C];
-#pragma unroll
-      for (int c = 0; c < C; ++c) z[c] = jet_comp(zq, c, e);
-      sigmoid_jet_point<D, O>(z, a, 1);
+  for (int nt = 0; nt < kMmaNT2; ++nt)
+    mma_sigmoid_tile<D, O, MT>(slot2, kMmaNT2, nt, buf, sl, [&](int e, const float* a) {
       const float w = W3[8 * nt + 2 * t + e];
 #pragma unroll
       for (int c = 0; c < C; ++c) out[c] = fmaf(w, a[c], out[c]);
-#pragma unroll
-      for (int c = 0; c < 2 * MT; ++c) jet_comp(aq, c, e) = c < C ? a[c] : 0.f;
-    }
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) buf[(mt * NTB + nt) * 32 + sl] = aq[mt];
-  }
+    });
 #pragma unroll
   for (int c = 0; c < C; ++c) {
     out[c] += __shfl_xor_sync(0xffffffffu, out[c], 1);
     out[c] += __shfl_xor_sync(0xffffffffu, out[c], 2);
   }
   out[0] += W[s.boff[3]];
+}
 
-  // Losses: the adjoint of the output jet (zero for unused rows).
-  float dout[C];
+// Losses of the lane's point: the adjoint of the output jet dout[C] (zero for unused rows), the
+// loss terms added into ls by the lanes with t = 0.
+template <int D, int O, bool OFF>
+__device__ __forceinline__ void mma_tile_losses(const LossCfg& cfg, float inv_m, float inv_k, bool valid, int t,
+                                                float y, const float (&aux)[D],
+                                                const float (&out)[jet_channels(D, O)],
+                                                float (&dout)[jet_channels(D, O)], Sums5& ls) {
+  constexpr int C = jet_channels(D, O);
 #pragma unroll
   for (int c = 0; c < C; ++c) dout[c] = 0.f;
   if (valid) {
@@ -413,29 +255,26 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
       if (t == 0 && dot < 0) ls.s += dot * dot;
     }
   }
-  if (!grad) return;
+}
 
-  // ---- reverse pass ----
-  // Output layer: dW3[n] += sum_c dout[c] a2[c][n], db3 += dout[0]; abar2 = W3[n] dout, then
-  // layer 2's sigmoid jet reversed: zbar2 into slot2 (over z2), db2 += zbar2's channel 0.
+// Reverse of the output layer: dW3[n] += sum_c dout[c] a2[c][n], db3 += dout[0]; abar2 = W3[n]
+// dout, then layer 2's sigmoid jet reversed: zbar2 into slot2 (over z2), db2 += zbar2's
+// channel 0.
+template <int D, int O, int MT>
+__device__ __forceinline__ void mma_output_reverse(const float* W3, const float (&dout)[jet_channels(D, O)],
+                                                   float4* slot2, const float4* buf, int lane, MmaGrad<D>& gr) {
+  constexpr int C = jet_channels(D, O);
+  const int t = lane & 3, sl = lslot(lane);
   if (t == 0) gr.db3 += dout[0];
 #pragma unroll
-  for (int nt = 0; nt < NT2; ++nt) {
+  for (int nt = 0; nt < kMmaNT2; ++nt) {
     float4 zq[8], aq[8], zbq[8];
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) {
-      zq[mt] = slot2[(mt * NT2 + nt) * 32 + sl];
-      aq[mt] = buf[(mt * NTB + nt) * 32 + sl];
-    }
+    load_jet_tiles<MT>(zq, slot2, kMmaNT2, aq, buf, kMmaNTB, nt, sl);
 #pragma unroll
     for (int e = 0; e < 2; ++e) {
       const int q = 2 * nt + e;
       float z[C], a[C], ab[C], zb[C];
-#pragma unroll
-      for (int c = 0; c < C; ++c) {
-        z[c] = jet_comp(zq, c, e);
-        a[c] = jet_comp(aq, c, e);
-      }
+      get_jet<C>(zq, aq, e, z, a);
       const float w = W3[8 * nt + 2 * t + e];
       float dw = 0.f;
 #pragma unroll
@@ -446,71 +285,61 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
       gr.dw3[q] += dw;
       sigmoid_jet_point_backward<D, O>(z, a[0], ab, zb, 1);
       gr.db2[q] += zb[0];
-#pragma unroll
-      for (int c = 0; c < 2 * MT; ++c) jet_comp(zbq, c, e) = c < C ? zb[c] : 0.f;
+      put_jet<C, MT>(zbq, e, zb);
     }
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) slot2[(mt * NT2 + nt) * 32 + sl] = zbq[mt];
+    store_jet_tiles<MT>(zbq, slot2, kMmaNT2, nt, sl);
   }
+}
 
-  // abar1 = zbar2 W2 into buf; layer 1's sigmoid reversed: zbar1 into slot1 (over z1), the
-  // recomputed a1 into buf (over abar1), db1.
-  mma_layer<MT, kMmaH2, kMmaH1, NT2, NTB, U>(slot2, buf, frag + 3 * 256, nullptr, lane);
+// abar1 = zbar2 W2 into buf; layer 1's sigmoid reversed: zbar1 into slot1 (over z1), the
+// recomputed a1 into buf (over abar1), db1; then dW2 += zbar2^T a1 (over the tile's rows).
+template <int D, int O, int MT, int U>
+__device__ __forceinline__ void mma_layer1_reverse(const float4* frag, float4* slot1, float4* slot2, float4* buf,
+                                                   int lane, MmaGrad<D>& gr) {
+  constexpr int C = jet_channels(D, O);
+  const int sl = lslot(lane);
+  mma_layer<MT, kMmaH2, kMmaH1, kMmaNT2, kMmaNTB, U>(slot2, buf, frag + 3 * 256, nullptr, lane);
 #pragma unroll(U)
-  for (int nt = 0; nt < NT1; ++nt) {
+  for (int nt = 0; nt < kMmaNT1; ++nt) {
     float4 zq[8], abq[8], aq[8], zbq[8];
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) {
-      zq[mt] = slot1[(mt * NT1 + nt) * 32 + sl];
-      abq[mt] = buf[(mt * NTB + nt) * 32 + sl];
-    }
+    load_jet_tiles<MT>(zq, slot1, kMmaNT1, abq, buf, kMmaNTB, nt, sl);
 #pragma unroll
     for (int e = 0; e < 2; ++e) {
       float z[C], a[C], ab[C], zb[C];
-#pragma unroll
-      for (int c = 0; c < C; ++c) {
-        z[c] = jet_comp(zq, c, e);
-        ab[c] = jet_comp(abq, c, e);
-      }
+      get_jet<C>(zq, abq, e, z, ab);
       sigmoid_jet_point<D, O>(z, a, 1);
       sigmoid_jet_point_backward<D, O>(z, a[0], ab, zb, 1);
-      if (nt == 0) gr.db1[e] += zb[0];
-      if (nt == 1) gr.db1[2 + e] += zb[0];
-      if (nt == 2) gr.db1[4 + e] += zb[0];
-      if (nt == 3) gr.db1[6 + e] += zb[0];
+      // db1 of neuron 8 nt + 2t + e: nt is not a compile-time index where the loop is not
+      // fully unrolled, so every entry is written, the one of nt with zb[0] added (as selects).
 #pragma unroll
-      for (int c = 0; c < 2 * MT; ++c) {
-        jet_comp(aq, c, e) = c < C ? a[c] : 0.f;
-        jet_comp(zbq, c, e) = c < C ? zb[c] : 0.f;
-      }
+      for (int k = 0; k < kMmaNT1; ++k) gr.db1[2 * k + e] = nt == k ? gr.db1[2 * k + e] + zb[0] : gr.db1[2 * k + e];
+      put_jet<C, MT>(aq, zbq, e, a, zb);
     }
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) {
-      slot1[(mt * NT1 + nt) * 32 + sl] = zbq[mt];
-      buf[(mt * NTB + nt) * 32 + sl] = aq[mt];
-    }
+    store_jet_tiles<MT>(zbq, slot1, kMmaNT1, aq, buf, kMmaNTB, nt, sl);
   }
-  // dW2 += zbar2^T a1 (over the tile's rows).
-  __syncwarp();
-  mma_weight_grad<MT, kMmaH2, kMmaH1, NT2, NTB>(reinterpret_cast<const float*>(slot2),
-                                                reinterpret_cast<const float*>(buf), gr.dw2, MT, lane);
-  __syncwarp();
+  mma_weight_grad_synced<MT, kMmaH2, kMmaH1, kMmaNT2, kMmaNTB>(slot2, buf, gr.dw2, lane);
+}
 
-  // abar0 = zbar1 W1 into buf; layer 0's sigmoid reversed on the recomputed z0: its gradient
-  // (dW0[n][i] += zbar0[0] x_i + zbar0[1 + i], db0 += zbar0[0]), and a0 into buf.
-  mma_layer<MT, kMmaH1, kMmaH0, NT1, NTB, U>(slot1, buf, frag + 1 * 256, nullptr, lane);
+// abar0 = zbar1 W1 into buf; layer 0's sigmoid reversed on the recomputed z0: its gradient
+// (dW0[n][i] += zbar0[0] x_i + zbar0[1 + i], db0 += zbar0[0]), and a0 into buf; then
+// dW1 += zbar1^T a0.
+template <int D, int O, int MT, int U>
+__device__ __forceinline__ void mma_layer0_reverse(const float* W0, const float* b0, const float4* frag,
+                                                   const float (&x)[D], float4* slot1, float4* buf, int lane,
+                                                   MmaGrad<D>& gr) {
+  constexpr int C = jet_channels(D, O);
+  const int t = lane & 3, sl = lslot(lane);
+  mma_layer<MT, kMmaH1, kMmaH0, kMmaNT1, kMmaNTB, U>(slot1, buf, frag + 1 * 256, nullptr, lane);
 #pragma unroll
   for (int nt = 0; nt < kMmaH0 / 8; ++nt) {
     float4 abq[8], aq[8];
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) abq[mt] = buf[(mt * NTB + nt) * 32 + sl];
+    load_jet_tiles<MT>(abq, buf, kMmaNTB, nt, sl);
 #pragma unroll
     for (int e = 0; e < 2; ++e) {
       const int q = 2 * nt + e;
       float z[C], a[C], ab[C], zb[C];
-      layer0_z(8 * nt + 2 * t + e, z);
-#pragma unroll
-      for (int c = 0; c < C; ++c) ab[c] = jet_comp(abq, c, e);
+      mma_layer0_z<D, C>(W0, b0, x, 8 * nt + 2 * t + e, z);
+      get_jet<C>(abq, e, ab);
       sigmoid_jet_point<D, O>(z, a, 1);
       sigmoid_jet_point_backward<D, O>(z, a[0], ab, zb, 1);
 #pragma unroll
@@ -520,17 +349,40 @@ __device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, 
         gr.dw0[q][i] += v;
       }
       gr.db0[q] += zb[0];
-#pragma unroll
-      for (int c = 0; c < 2 * MT; ++c) jet_comp(aq, c, e) = c < C ? a[c] : 0.f;
+      put_jet<C, MT>(aq, e, a);
     }
-#pragma unroll
-    for (int mt = 0; mt < MT; ++mt) buf[(mt * NTB + nt) * 32 + sl] = aq[mt];
+    store_jet_tiles<MT>(aq, buf, kMmaNTB, nt, sl);
   }
-  // dW1 += zbar1^T a0.
-  __syncwarp();
-  mma_weight_grad<MT, kMmaH1, kMmaH0, NT1, NTB>(reinterpret_cast<const float*>(slot1),
-                                                reinterpret_cast<const float*>(buf), gr.dw1, MT, lane);
-  __syncwarp();
+  mma_weight_grad_synced<MT, kMmaH1, kMmaH0, kMmaNT1, kMmaNTB>(slot1, buf, gr.dw1, lane);
+}
+
+// The forward jets, losses and (when grad) the reverse pass of the points [begin, begin + np)
+// (np <= 8) of a batch's data (OFF = false, jets of order O) or off-domain points (OFF = true,
+// order O = 1), lane (g, t) working on point g. Adds the tile's gradient into gr and its loss
+// terms into ls (lanes with t = 0 of valid points).
+template <int D, int O, bool OFF, int MTB>
+__device__ void mma_tile(const NetShape& s, const float* W, const float4* frag, const LossCfg& cfg,
+                         const BatchSrc& src, float inv_m, float inv_k, int begin, int np, float4* slot1,
+                         float4* slot2, float4* buf, bool grad, MmaGrad<D>& gr, Sums5& ls) {
+  constexpr int C = jet_channels(D, O), MT = mma_mtiles(D, O);
+  // Loops over m-tiles or neuron tiles unrolled by 2 at d = 2 (8 warps per SM, 255 registers
+  // each: independent work per warp hides latency); not at d = 1 (16 warps, 128 registers).
+  constexpr int U = D == 2 ? 2 : 1;
+  const int lane = threadIdx.x & 31, g = lane >> 2, t = lane & 3;
+  const bool valid = g < np;
+  const float *W0 = W + s.woff[0], *b0 = W + s.boff[0], *W3 = W + s.woff[3];
+
+  float x[D], aux[D], y;  // aux: the data gradient g or the off-domain normal
+  mma_tile_inputs<D, OFF>(src, begin, g, valid, x, aux, y);
+  float out[C], dout[C];
+  mma_tile_forward<D, O, MT, U>(s, W, W0, b0, W3, frag, x, slot1, slot2, buf, lane, out);
+  mma_tile_losses<D, O, OFF>(cfg, inv_m, inv_k, valid, t, y, aux, out, dout, ls);
+  if (!grad) return;
+
+  // ---- reverse pass ----
+  mma_output_reverse<D, O, MT>(W3, dout, slot2, buf, lane, gr);
+  mma_layer1_reverse<D, O, MT, U>(frag, slot1, slot2, buf, lane, gr);
+  mma_layer0_reverse<D, O, MT, U>(W0, b0, frag, x, slot1, buf, lane, gr);
 }
 
 // Sum over the 8 points of a lane's quarter (lanes t, t + 4, ..., t + 28): xor 4, 8, 16.

@@ -2,9 +2,12 @@
 
 #include <cmath>
 
-#include "sim/cross_matrix.hpp"
+#include "numerics/cross_matrix.hpp"
 
 namespace yarnhom::sim {
+
+using numerics::cross_matrix;
+using numerics::add_bilinear;
 
 double dihedral_angle(const Eigen::Vector3d& xa, const Eigen::Vector3d& xb, const Eigen::Vector3d& xc,
                       const Eigen::Vector3d& xd, Vec12* grad, Mat12* hess) {

@@ -2,9 +2,12 @@
 
 #include <cmath>
 
-#include "sim/cross_matrix.hpp"
+#include "numerics/cross_matrix.hpp"
 
 namespace yarnhom::sim {
+
+using numerics::cross_matrix;
+using numerics::add_bilinear;
 
 double edge_height(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, int edge,
                    Vec9* grad, Mat9* hess) {

@@ -3,7 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "sim/barrier.hpp"
+#include "numerics/barrier.hpp"
 
 namespace yarnhom::sim {
 
@@ -70,7 +70,7 @@ std::vector<FrictionContact> friction_contacts(const Problem& P, const std::vect
       Eigen::Vector3d n;
       const double d = collider_distance(c, x_at.segment<3>(3 * v), &n);
       if (!(d < P.dhat) || !(d > 0)) continue;
-      const BarrierValue b = barrier(d, P.dhat);
+      const numerics::BarrierValue b = numerics::distance_barrier(d, P.dhat);
       FrictionContact k;
       k.vertex = v;
       k.collider = int(ci);

@@ -8,6 +8,21 @@ namespace {
 
 int element_vertex(const Mesh& m, int t, int a) { return a < 3 ? m.tris(t, a) : m.flaps(t, a - 3); }
 
+// Calls fn(t, a, b, fa, fb) for every pair (a, b) of an element's six vertices (the triangle
+// and its flaps) that are both free, with fa >= fb their free indices (the lower triangle).
+template <class Fn>
+void for_each_lower_pair(const Mesh& mesh, const DofMap& dofs, Fn&& fn) {
+  for (int t = 0; t < mesh.num_triangles(); ++t)
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) {
+        const int va = element_vertex(mesh, t, a), vb = element_vertex(mesh, t, b);
+        if (va < 0 || vb < 0) continue;
+        const int fa = dofs.free_index[va], fb = dofs.free_index[vb];
+        if (fa < 0 || fb < 0 || fa < fb) continue;
+        fn(t, a, b, fa, fb);
+      }
+}
+
 }  // namespace
 
 HessianPattern make_hessian_pattern(const Mesh& mesh, const DofMap& dofs) {
@@ -15,15 +30,7 @@ HessianPattern make_hessian_pattern(const Mesh& mesh, const DofMap& dofs) {
   // Vertex-level adjacency (lower: row vertex >= column vertex), then expanded to 3x3 blocks.
   std::vector<std::vector<int>> rows_of(F);
   for (int f = 0; f < F; ++f) rows_of[f].push_back(f);
-  for (int t = 0; t < m; ++t)
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b) {
-        const int va = element_vertex(mesh, t, a), vb = element_vertex(mesh, t, b);
-        if (va < 0 || vb < 0) continue;
-        const int fa = dofs.free_index[va], fb = dofs.free_index[vb];
-        if (fa < 0 || fb < 0 || fa < fb) continue;
-        rows_of[fb].push_back(fa);
-      }
+  for_each_lower_pair(mesh, dofs, [&](int, int, int, int fa, int fb) { rows_of[fb].push_back(fa); });
   for (auto& r : rows_of) {
     std::sort(r.begin(), r.end());
     r.erase(std::unique(r.begin(), r.end()), r.end());
@@ -67,16 +74,10 @@ HessianPattern make_hessian_pattern(const Mesh& mesh, const DofMap& dofs) {
     for (int c = 0; c < 3; ++c) p.diag_slots[3 * f + c] = lookup(f, f, c);
   p.elem_slots.assign(size_t(m) * 108, -1);
   p.same_vertex.assign(m, 0);
-  for (int t = 0; t < m; ++t)
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b) {
-        const int va = element_vertex(mesh, t, a), vb = element_vertex(mesh, t, b);
-        if (va < 0 || vb < 0) continue;
-        const int fa = dofs.free_index[va], fb = dofs.free_index[vb];
-        if (fa < 0 || fb < 0 || fa < fb) continue;
-        for (int c = 0; c < 3; ++c) p.elem_slots[((size_t(t) * 6 + a) * 6 + b) * 3 + c] = lookup(fa, fb, c);
-        if (fa == fb) p.same_vertex[t] |= 1ull << (6 * a + b);
-      }
+  for_each_lower_pair(mesh, dofs, [&](int t, int a, int b, int fa, int fb) {
+    for (int c = 0; c < 3; ++c) p.elem_slots[((size_t(t) * 6 + a) * 6 + b) * 3 + c] = lookup(fa, fb, c);
+    if (fa == fb) p.same_vertex[t] |= 1ull << (6 * a + b);
+  });
   return p;
 }
 

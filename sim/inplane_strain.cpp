@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "sim/psd_projection.hpp"
+#include "numerics/psd_projection.hpp"
 
 namespace yarnhom::sim {
 
@@ -45,7 +45,7 @@ Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d&
       Eigen::Matrix<double, 6, 6> Hf;
       Hf << H11, H12, H12.transpose(), H22;
       Hf = (0.5 * (Hf + Hf.transpose())).eval();  // H11, H22 symmetric up to rounding
-      if (project_psd(Hf)) {
+      if (numerics::project_psd(Hf)) {
         H11 = Hf.block<3, 3>(0, 0);
         H12 = Hf.block<3, 3>(0, 3);
         H22 = Hf.block<3, 3>(3, 3);

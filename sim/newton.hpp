@@ -9,10 +9,15 @@
 // Converged when the Newton step's largest vertex displacement is below tol_step (m): in a
 // dynamic step that is a velocity error below tol_step / h (IPC's criterion; the simulation's
 // default is tol_step = 1e-2 l h, l the sheet's rest diagonal, as in IPC).
-#include "sim/linear_solver.hpp"
+#include "numerics/sparse_cholesky.hpp"
 #include "sim/potential.hpp"
 
 namespace yarnhom::sim {
+
+// The simulator's linear solver: the project's one sparse Cholesky (numerics/).
+using LinearSolver = numerics::SparseCholesky;
+using numerics::parse_solver_kind;
+using numerics::SolverKind;
 
 struct NewtonSettings {
   int max_iterations = 100;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/barrier.hpp"
+#include "numerics/barrier.hpp"
 
 namespace yarnhom::sim {
 
@@ -59,7 +59,7 @@ double vertex_terms(const Problem& P, const StepState& S, const Eigen::VectorXd&
     Eigen::Matrix3d dH;
     const double d = collider_distance(c, xv, g ? &dg : nullptr, H ? &dH : nullptr);
     if (d >= P.dhat) continue;
-    const BarrierValue b = barrier(d, P.dhat);
+    const numerics::BarrierValue b = numerics::distance_barrier(d, P.dhat);
     if (!std::isfinite(b.b)) return std::numeric_limits<double>::infinity();
     const double k = P.kappa * A;
     E += k * b.b;

@@ -5,7 +5,7 @@
 //   Phi(x) = 1/(2h^2) |x - x~|_M^2                        inertia (lumped M)
 //          + E_shell(x)                                   sim/shell_energy.hpp
 //          - sum_v m_v g . x_v                            gravity
-//          + kappa sum_v sum_c A_v b(d_c(x_v))            colliders (sim/barrier.hpp)
+//          + kappa sum_v sum_c A_v b(d_c(x_v))            colliders (numerics/barrier.hpp)
 //          + 1/(2h) (x - x_n)^T (alpha M + beta K_n) (x - x_n)     Rayleigh damping
 //          + c_air/(2h) sum_v A_v ((x_v - x_v^n) . n_v)^2        air drag on the normal velocity
 //          + sum_k mu lambda_k f0(|T_k^T (x_k - x_k^n)|)            lagged friction (sim/friction.hpp)

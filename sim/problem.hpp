@@ -6,7 +6,7 @@
 #include "sim/collider.hpp"
 #include "sim/element_rest.hpp"
 #include "sim/hessian_model.hpp"
-#include "sim/material_fn.hpp"
+#include "material/material_fn.hpp"
 #include "sim/mesh.hpp"
 
 namespace yarnhom::sim {

@@ -3,10 +3,10 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <set>
 #include <stdexcept>
 
+#include "io/json_reader.hpp"
 #include "sim/obj_io.hpp"
 #include "sim/rectangle.hpp"
 
@@ -14,49 +14,14 @@ namespace yarnhom::sim {
 
 namespace {
 
-using json = nlohmann::json;
+using json = io::json;
 
-struct Reader {
-  std::string file;
-  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-    throw std::invalid_argument(file + ": key '" + key + "': " + problem);
-  }
-  void only(const json& j, const std::string& where, std::set<std::string> allowed) const {
-    if (!j.is_object()) fail(where, "must be an object");
-    for (auto it = j.begin(); it != j.end(); ++it)
-      if (!allowed.count(it.key())) fail(where.empty() ? it.key() : where + "." + it.key(), "unknown key");
-  }
-  double number(const json& j, const std::string& key) const {
-    if (!j.is_number()) fail(key, "must be a number");
-    const double x = j.get<double>();
-    if (!std::isfinite(x)) fail(key, "must be finite");
-    return x;
-  }
-  double nonnegative(const json& j, const std::string& key) const {
-    const double x = number(j, key);
-    if (!(x >= 0)) fail(key, "must be >= 0");
-    return x;
-  }
-  double positive(const json& j, const std::string& key) const {
-    const double x = number(j, key);
-    if (!(x > 0)) fail(key, "must be positive");
-    return x;
-  }
-  int integer(const json& j, const std::string& key, int lo) const {
-    if (!j.is_number_integer()) fail(key, "must be an integer");
-    const long long x = j.get<long long>();
-    if (x < lo || x > 100000000) fail(key, "must be an integer >= " + std::to_string(lo));
-    return int(x);
-  }
-  Eigen::Vector3d vec3(const json& j, const std::string& key) const {
-    if (!j.is_array() || j.size() != 3) fail(key, "must be an array of 3 numbers");
-    return Eigen::Vector3d(number(j[0], key), number(j[1], key), number(j[2], key));
-  }
-  std::string path(const json& j, const std::string& key) const {
-    if (!j.is_string()) fail(key, "must be a file name (string)");
-    std::filesystem::path p(j.get<std::string>());
-    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
-    return p.string();
+struct Reader : io::JsonReader {
+  // An object whose keys are exactly `a` and `b`.
+  const json& both(const json& j, const std::string& key, const char* a, const char* b) const {
+    only(j, key, {a, b});
+    if (!j.contains(a) || !j.contains(b)) fail(key, std::string("needs ") + a + " and " + b);
+    return j;
   }
   std::vector<int> select(const json& j, const std::string& key, const Mesh& m) const {
     only(j, key, {"vertices", "rest_box"});
@@ -86,26 +51,8 @@ struct Reader {
   }
 };
 
-}  // namespace
-
-Scene read_scene_json(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw std::invalid_argument(file + ": cannot open");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw std::invalid_argument(file + ": not valid JSON: " + e.what());
-  }
-  const Reader r{file};
-  r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
-                 "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
-  Scene s;
-  s.name = std::filesystem::path(file).stem().string();
-  if (j.contains("name")) {
-    if (!j["name"].is_string()) r.fail("name", "must be a string");
-    s.name = j["name"].get<std::string>();
-  }
+// "mesh" (an OBJ file or a rectangle) and "position" (a rigid placement of it).
+void read_mesh(const Reader& r, const json& j, Scene& s) {
   if (!j.contains("mesh")) r.fail("mesh", "missing (give {\"obj\": FILE} or {\"rectangle\": {...}})");
   const json& jm = j["mesh"];
   r.only(jm, "mesh", {"obj", "rectangle"});
@@ -134,9 +81,10 @@ Scene read_scene_json(const std::string& file) {
     if (p.contains("translate")) t = r.vec3(p["translate"], "position.translate");
     for (int v = 0; v < s.mesh.num_vertices(); ++v) s.mesh.x.row(v) = (R * s.mesh.x.row(v).transpose() + t).transpose();
   }
-  if (j.contains("material")) s.material = r.path(j["material"], "material");
-  if (j.contains("areal_density")) s.areal_density = r.positive(j["areal_density"], "areal_density");
-  if (j.contains("gravity")) s.gravity = r.vec3(j["gravity"], "gravity");
+}
+
+// "pins" (handle 0 when given) and "handles" (selections with keyframed paths).
+void read_handles(const Reader& r, const json& j, Scene& s) {
   if (j.contains("pins")) {
     if (!j["pins"].is_array()) r.fail("pins", "must be an array of selections");
     Handle h;
@@ -169,6 +117,10 @@ Scene read_scene_json(const std::string& file) {
       s.handles.push_back(h);
     }
   }
+}
+
+// "colliders", "barrier" and "friction".
+void read_contact(const Reader& r, const json& j, Scene& s) {
   if (j.contains("colliders")) {
     if (!j["colliders"].is_array()) r.fail("colliders", "must be an array");
     for (size_t k = 0; k < j["colliders"].size(); ++k) {
@@ -179,16 +131,12 @@ Scene read_scene_json(const std::string& file) {
       c.friction = -1;  // none of its own: the global "friction" (below), else 0
       if (jc.contains("friction")) c.friction = r.nonnegative(jc["friction"], key + ".friction");
       if (jc.contains("sphere")) {
-        const json& sp = jc["sphere"];
-        r.only(sp, key + ".sphere", {"center", "radius"});
-        if (!sp.contains("center") || !sp.contains("radius")) r.fail(key + ".sphere", "needs center and radius");
+        const json& sp = r.both(jc["sphere"], key + ".sphere", "center", "radius");
         c.kind = Collider::Kind::Sphere;
         c.center = r.vec3(sp["center"], key + ".sphere.center");
         c.radius = r.positive(sp["radius"], key + ".sphere.radius");
       } else if (jc.contains("plane")) {
-        const json& pl = jc["plane"];
-        r.only(pl, key + ".plane", {"point", "normal"});
-        if (!pl.contains("point") || !pl.contains("normal")) r.fail(key + ".plane", "needs point and normal");
+        const json& pl = r.both(jc["plane"], key + ".plane", "point", "normal");
         c.kind = Collider::Kind::Plane;
         c.center = r.vec3(pl["point"], key + ".plane.point");
         c.normal = r.vec3(pl["normal"], key + ".plane.normal");
@@ -222,6 +170,10 @@ Scene read_scene_json(const std::string& file) {
   }
   for (Collider& c : s.colliders)
     if (c.friction < 0) c.friction = mu;
+}
+
+// "damping", "integrator", "dt", "substeps", "frames", "newton".
+void read_time_stepping(const Reader& r, const json& j, Scene& s) {
   if (j.contains("damping")) {
     const json& d = j["damping"];
     r.only(d, "damping", {"rayleigh_alpha", "rayleigh_beta", "air"});
@@ -251,10 +203,10 @@ Scene read_scene_json(const std::string& file) {
     if (j["newton"].contains("max_iterations"))
       s.newton.max_iterations = r.integer(j["newton"]["max_iterations"], "newton.max_iterations", 1);
   }
-  if (j.contains("render")) {
-    if (!j["render"].is_array()) r.fail("render", "must be an array of frame numbers");
-    for (const json& f : j["render"]) s.render_frames.push_back(r.integer(f, "render", 0));
-  }
+}
+
+// "stretch_report": the clamp force of a stretch test, per width.
+void read_stretch_report(const Reader& r, const json& j, Scene& s) {
   if (j.contains("stretch_report")) {
     const json& sr = j["stretch_report"];
     r.only(sr, "stretch_report", {"handle", "axis", "length", "width", "middle"});
@@ -270,6 +222,33 @@ Scene read_scene_json(const std::string& file) {
     if (!sr["middle"].is_array() || sr["middle"].size() != 2) r.fail("stretch_report.middle", "must be [u, v]");
     s.stretch.middle = Eigen::Vector2d(r.number(sr["middle"][0], "stretch_report.middle"), r.number(sr["middle"][1], "stretch_report.middle"));
   }
+}
+
+}  // namespace
+
+Scene read_scene_json(const std::string& file) {
+  const json j = io::read_json_file(file);
+  const Reader r{{file}};
+  r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
+                 "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
+  Scene s;
+  s.name = std::filesystem::path(file).stem().string();
+  if (j.contains("name")) {
+    if (!j["name"].is_string()) r.fail("name", "must be a string");
+    s.name = j["name"].get<std::string>();
+  }
+  read_mesh(r, j, s);
+  if (j.contains("material")) s.material = r.path(j["material"], "material");
+  if (j.contains("areal_density")) s.areal_density = r.positive(j["areal_density"], "areal_density");
+  if (j.contains("gravity")) s.gravity = r.vec3(j["gravity"], "gravity");
+  read_handles(r, j, s);
+  read_contact(r, j, s);
+  read_time_stepping(r, j, s);
+  if (j.contains("render")) {
+    if (!j["render"].is_array()) r.fail("render", "must be an array of frame numbers");
+    for (const json& f : j["render"]) s.render_frames.push_back(r.integer(f, "render", 0));
+  }
+  read_stretch_report(r, j, s);
   return s;
 }
 

@@ -5,7 +5,7 @@
 #include <chrono>
 
 #include "sim/inplane_strain.hpp"
-#include "sim/psd_projection.hpp"
+#include "numerics/psd_projection.hpp"
 #include "sim/shell_strain.hpp"
 
 namespace yarnhom::sim {
@@ -98,7 +98,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       if (model == HessianModel::Split) {
         // J^T [H]_+ J + C^T [Hf]_+ C (sim/hessian_model.hpp); no bending curvature term.
         Eigen::Matrix<double, 6, 6> Hs = me.hess;
-        changed = project_psd(Hs);
+        changed = numerics::project_psd(Hs);
         if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
         H.noalias() = J.transpose() * Hs * J;
         Mat9 Hin;
@@ -112,7 +112,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
         H += J.transpose() * me.hess * J;
         H *= A;
         if (timings) tm.chain += since(t0);
-        changed = model == HessianModel::ProjectedElement && project_psd(H);
+        changed = model == HessianModel::ProjectedElement && numerics::project_psd(H);
       }
       if (timings) {
         tm.project += since(t0);

@@ -4,12 +4,12 @@
 // Hessian contracted with a weight 6-vector lambda, sum_k lambda_k d2s_k/dq2 (what the chain
 // rule of an energy Psi(s) needs, with lambda = dPsi/ds). theta_ref: the branches of the three
 // dihedral angles (sim/second_fundamental_form.hpp), or null for (-pi, pi].
+#include "material/strain.hpp"
 #include "sim/element_rest.hpp"
 #include "sim/second_fundamental_form.hpp"
 
 namespace yarnhom::sim {
 
-using Strain6 = Eigen::Matrix<double, 6, 1>;
 using Jac6x18 = Eigen::Matrix<double, 6, 18>;
 
 Strain6 shell_strain(const Vec18& q, const ElementRest& rest, const bool has_flap[3], Jac6x18* J = nullptr,

@@ -94,10 +94,14 @@ void write_stretch_csv(const std::string& path, const std::vector<StretchRow>& r
   out.commit();
 }
 
-}  // namespace
+// The rest mesh's bounding-box diagonal (m): the scale of the default tolerances.
+double rest_diagonal(const Mesh& mesh) {
+  return (mesh.rest.colwise().maxCoeff() - mesh.rest.colwise().minCoeff()).norm();
+}
 
-SimResult run_simulation(const Scene& scene, const MaterialFn& material, double density, const SimSettings& set,
-                         const FrameCallback& on_frame) {
+// The potential's problem for a scene: the material, density, colliders, barrier and friction
+// parameters, damping and Hessian model, each checked.
+Problem scene_problem(const Scene& scene, const MaterialFn& material, double density, const SimSettings& set) {
   const bool dynamic = scene.integrator != Integrator::Static;
   if (!(density >= 0) || !std::isfinite(density)) throw std::invalid_argument("areal density must be >= 0");
   if (dynamic && !(density > 0))
@@ -117,35 +121,92 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   for (const Collider& c : P.colliders)
     if (!(c.friction >= 0) || !std::isfinite(c.friction)) throw std::invalid_argument("a collider's friction must be >= 0");
   // Friction's sticking velocity: IPC's default, 1e-3 sheet sizes per second.
-  const double diag = (P.mesh.rest.colwise().maxCoeff() - P.mesh.rest.colwise().minCoeff()).norm();
-  P.friction_eps_v = scene.friction_eps_v > 0 ? scene.friction_eps_v : 1e-3 * diag;
+  P.friction_eps_v = scene.friction_eps_v > 0 ? scene.friction_eps_v : 1e-3 * rest_diagonal(P.mesh);
   P.friction_updates = scene.friction_updates;
+  return P;
+}
+
+// Vertices must start outside the colliders (the barrier is infinite inside).
+void require_outside_colliders(const Problem& P, const Eigen::VectorXd& x0) {
+  for (int v = 0; v < P.mesh.num_vertices(); ++v)
+    for (size_t c = 0; c < P.colliders.size(); ++c)
+      if (!(collider_distance(P.colliders[c], x0.segment<3>(3 * v)) > 0))
+        throw std::invalid_argument("vertex " + std::to_string(v) + " starts inside collider " + std::to_string(c));
+}
+
+// OUT/frames/ and OUT/steps.csv with its header.
+FILE* open_steps_csv(const std::string& dir) {
+  fs::create_directories(fs::path(dir) / "frames");
+  FILE* csv = std::fopen((fs::path(dir) / "steps.csv").c_str(), "w");
+  if (!csv) throw std::runtime_error(dir + "/steps.csv: cannot write");
+  std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
+                    "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
+                    "assemble_ms,solve_ms,line_search_ms\n");
+  return csv;
+}
+
+void write_step_row(FILE* csv, const StepRecord& rec) {
+  std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f\n", rec.step,
+               rec.frame, rec.time, rec.iterations, int(rec.converged), rec.backtracks, rec.potential, rec.kinetic,
+               rec.max_speed, 1e3 * rec.wall, 1e3 * rec.t_strain, 1e3 * rec.t_material, 1e3 * rec.t_chain,
+               1e3 * rec.t_project, 1e3 * rec.t_scatter, rec.projected, 1e3 * rec.t_assemble, 1e3 * rec.t_solve,
+               1e3 * rec.t_line_search);
+  std::fflush(csv);
+}
+
+// A step's Newton statistics and timings, and its energies where the step stayed finite.
+void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const DofMap& D, const Eigen::VectorXd& x,
+                 const Eigen::VectorXd& v) {
+  rec.iterations = st.newton.iterations;
+  rec.converged = st.newton.converged;
+  rec.backtracks = st.newton.backtracks;
+  rec.finite = st.finite;
+  rec.t_strain = st.newton.shell.strain;
+  rec.t_material = st.newton.shell.material;
+  rec.t_chain = st.newton.shell.chain;
+  rec.t_project = st.newton.shell.project;
+  rec.t_scatter = st.newton.shell.scatter;
+  rec.projected = st.newton.shell.projected;
+  rec.elements = st.newton.shell.elements;
+  rec.t_assemble = st.newton.t_assemble;
+  rec.t_solve = st.newton.t_solve;
+  rec.t_line_search = st.newton.t_line_search;
+  if (st.finite) {
+    StepState none;
+    none.dynamic = false;
+    rec.potential = potential_value(P, D, none, x);
+    double kin = 0, vmax = 0;
+    for (int i = 0; i < P.mesh.num_vertices(); ++i) {
+      const double s2 = v.segment<3>(3 * i).squaredNorm();
+      kin += 0.5 * P.mass[i] * s2;
+      vmax = std::max(vmax, std::sqrt(s2));
+    }
+    rec.kinetic = kin;
+    rec.max_speed = vmax;
+  }
+}
+
+}  // namespace
+
+SimResult run_simulation(const Scene& scene, const MaterialFn& material, double density, const SimSettings& set,
+                         const FrameCallback& on_frame) {
+  const bool dynamic = scene.integrator != Integrator::Static;
+  Problem P = scene_problem(scene, material, density, set);
+  const double diag = rest_diagonal(P.mesh);
   const std::vector<int> prescribed = prescribed_vertices(scene.handles);
   const DofMap D = make_dof_map(P.mesh.num_vertices(), prescribed);
   const HessianPattern pat = make_hessian_pattern(P.mesh, D);
   LinearSolver solver(set.solver);
 
   const Eigen::VectorXd x0 = flatten(P.mesh.x);
-  // Vertices must start outside the colliders.
-  for (int v = 0; v < P.mesh.num_vertices(); ++v)
-    for (size_t c = 0; c < P.colliders.size(); ++c)
-      if (!(collider_distance(P.colliders[c], x0.segment<3>(3 * v)) > 0))
-        throw std::invalid_argument("vertex " + std::to_string(v) + " starts inside collider " + std::to_string(c));
+  require_outside_colliders(P, x0);
   SimResult R;
   R.kappa = P.kappa;
   R.friction_eps_v = P.friction_eps_v;
   R.x = x0;
   R.v = Eigen::VectorXd::Zero(x0.size());
   const std::string& dir = set.out_dir;
-  FILE* csv = nullptr;
-  if (!dir.empty()) {
-    fs::create_directories(fs::path(dir) / "frames");
-    csv = std::fopen((fs::path(dir) / "steps.csv").c_str(), "w");
-    if (!csv) throw std::runtime_error(dir + "/steps.csv: cannot write");
-    std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
-                      "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
-                      "assemble_ms,solve_ms,line_search_ms\n");
-  }
+  FILE* csv = dir.empty() ? nullptr : open_steps_csv(dir);
   // The hinges' dihedral angles on their continuous branch, carried from step to step.
   std::vector<double> hinges = hinge_angles(P.mesh, x0);
   const int stretch_index = std::abs(scene.stretch.axis.y()) > std::abs(scene.stretch.axis.x()) ? 2 : 0;
@@ -213,45 +274,14 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges, &previous);
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
-      rec.iterations = st.newton.iterations;
-      rec.converged = st.newton.converged;
-      rec.backtracks = st.newton.backtracks;
-      rec.finite = st.finite;
-      rec.t_strain = st.newton.shell.strain;
-      rec.t_material = st.newton.shell.material;
-      rec.t_chain = st.newton.shell.chain;
-      rec.t_project = st.newton.shell.project;
-      rec.t_scatter = st.newton.shell.scatter;
-      rec.projected = st.newton.shell.projected;
-      rec.elements = st.newton.shell.elements;
-      rec.t_assemble = st.newton.t_assemble;
-      rec.t_solve = st.newton.t_solve;
-      rec.t_line_search = st.newton.t_line_search;
-      if (st.finite) {
-        StepState none;
-        none.dynamic = false;
-        rec.potential = potential_value(P, D, none, x);
-        double kin = 0, vmax = 0;
-        for (int i = 0; i < P.mesh.num_vertices(); ++i) {
-          const double s2 = v.segment<3>(3 * i).squaredNorm();
-          kin += 0.5 * P.mass[i] * s2;
-          vmax = std::max(vmax, std::sqrt(s2));
-        }
-        rec.kinetic = kin;
-        rec.max_speed = vmax;
-      }
+      record_step(rec, st, P, D, x, v);
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
       R.all_converged = R.all_converged && rec.converged;
       R.steps.push_back(rec);
       if (csv) {
-        std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f\n", rec.step,
-                     rec.frame, rec.time, rec.iterations, int(rec.converged), rec.backtracks, rec.potential, rec.kinetic,
-                     rec.max_speed, 1e3 * rec.wall, 1e3 * rec.t_strain, 1e3 * rec.t_material, 1e3 * rec.t_chain,
-                     1e3 * rec.t_project, 1e3 * rec.t_scatter, rec.projected, 1e3 * rec.t_assemble, 1e3 * rec.t_solve,
-                     1e3 * rec.t_line_search);
-        std::fflush(csv);
+        write_step_row(csv, rec);
       }
       if (!R.finite || !R.diverged.empty()) break;
     }

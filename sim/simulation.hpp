@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/linear_solver.hpp"
+#include "numerics/sparse_cholesky.hpp"
 #include "sim/problem.hpp"
-#include "sim/material_fn.hpp"
+#include "material/material_fn.hpp"
 #include "sim/scene.hpp"
 
 namespace yarnhom::sim {

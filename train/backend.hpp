@@ -32,7 +32,7 @@ struct NetworkJob {
   std::vector<int> val_rows;                     // dataset rows of the validation points
   // The rest s = 0 in normalized units, and the second derivatives the polish holds there
   // (normalized, in jet channel order: 1D f_xx; 2D f_xx, f_xy, f_yy); NaN when unknown. From
-  // the dataset's measured rest Hessian (yarn/rest_hessian.hpp) when it has one: 1D H_ii; 2D
+  // the dataset's measured rest Hessian (yarn/rve/rest_hessian.hpp) when it has one: 1D H_ii; 2D
   // f_xy = H_ij only (the material's axis projection of a 2D network has f_xx = f_yy = 0 at
   // the origin by construction, so the 1D terms carry H_ii). Without one, 1D terms take the
   // central difference of the gradients of the nodes on either side of 0, and 2D terms hold

@@ -9,7 +9,7 @@
 
 #include "core/jet_layout.hpp"
 #include "cpu/flush_denormals.hpp"
-#include "train/backend.hpp"
+#include "train/cpu_backend.hpp"
 #include "train/epoch_plan.hpp"
 
 namespace yarnhom {
@@ -131,26 +131,6 @@ class CpuBackend final : public Backend {
 
 }  // namespace
 
-#ifdef YARNHOM_HAVE_CUDA
-std::unique_ptr<Backend> make_cuda_backend();  // cuda/cuda_backend.cu
-#endif
-
-std::vector<std::string> available_backends() {
-#ifdef YARNHOM_HAVE_CUDA
-  return {"cpu", "cuda"};
-#else
-  return {"cpu"};
-#endif
-}
-
-std::unique_ptr<Backend> make_backend(const std::string& name) {
-  if (name == "cpu") return std::make_unique<CpuBackend>();
-#ifdef YARNHOM_HAVE_CUDA
-  if (name == "cuda") return make_cuda_backend();
-#endif
-  std::string list;
-  for (auto& b : available_backends()) list += (list.empty() ? "" : ", ") + b;
-  throw std::invalid_argument("unknown or unavailable backend '" + name + "' (this build has: " + list + ")");
-}
+std::unique_ptr<Backend> make_cpu_backend() { return std::make_unique<CpuBackend>(); }
 
 }  // namespace yarnhom

@@ -47,6 +47,41 @@ struct LbfgsResult {
 using LbfgsObjective = std::function<double(const Eigen::VectorXd& x, Eigen::VectorXd& g)>;
 using LbfgsObserver = std::function<bool(int k, const Eigen::VectorXd& x, double f)>;
 
+// The two-loop recursion: p = -H g, H the inverse-Hessian estimate of the pairs (S, Y) with
+// rho = 1 / (s . y), scaled by the newest pair's s . y / |y|^2. alpha: scratch of the memory's size.
+inline void lbfgs_direction(const Eigen::VectorXd& g, const std::deque<Eigen::VectorXd>& S,
+                            const std::deque<Eigen::VectorXd>& Y, const std::deque<double>& rho,
+                            std::vector<double>& alpha, Eigen::VectorXd& p) {
+  p = -g;
+  const int m = int(S.size());
+  for (int i = m - 1; i >= 0; --i) {
+    alpha[i] = rho[i] * S[i].dot(p);
+    p -= alpha[i] * Y[i];
+  }
+  if (m > 0) p *= S.back().dot(Y.back()) / Y.back().squaredNorm();
+  for (int i = 0; i < m; ++i) {
+    const double beta = rho[i] * Y[i].dot(p);
+    p += (alpha[i] - beta) * S[i];
+  }
+}
+
+// The zoom's trial step: the minimizer of the cubic through both ends of the bracket (values
+// and slopes), the midpoint where that fails, safeguarded into the bracket's middle 80 %.
+inline double cubic_step(double a_lo, double f_lo, double d_lo, double a_hi, double f_hi, double d_hi) {
+  const double lo = std::min(a_lo, a_hi), hi = std::max(a_lo, a_hi), w = hi - lo;
+  double trial = 0.5 * (a_lo + a_hi);
+  if (std::isfinite(f_hi) && std::isfinite(d_hi)) {
+    const double d1 = d_lo + d_hi - 3 * (f_lo - f_hi) / (a_lo - a_hi);
+    const double disc = d1 * d1 - d_lo * d_hi;
+    if (disc >= 0) {
+      const double d2 = std::copysign(std::sqrt(disc), a_hi - a_lo);
+      const double c = a_hi - (a_hi - a_lo) * (d_hi + d2 - d1) / (d_hi - d_lo + 2 * d2);
+      if (std::isfinite(c)) trial = c;
+    }
+  }
+  return std::clamp(trial, lo + 0.1 * w, hi - 0.1 * w);
+}
+
 inline LbfgsResult lbfgs_minimize(Eigen::VectorXd& x, const LbfgsObjective& fg, const LbfgsOptions& opt,
                                   const LbfgsObserver& on_iterate = {}) {
   using Vec = Eigen::VectorXd;
@@ -65,18 +100,7 @@ inline LbfgsResult lbfgs_minimize(Eigen::VectorXd& x, const LbfgsObjective& fg, 
   std::vector<double> alpha(opt.memory);
 
   for (int k = 0; k < opt.max_iterations; ++k) {
-    // Two-loop recursion: p = -H g.
-    p = -g;
-    const int m = int(S.size());
-    for (int i = m - 1; i >= 0; --i) {
-      alpha[i] = rho[i] * S[i].dot(p);
-      p -= alpha[i] * Y[i];
-    }
-    if (m > 0) p *= S.back().dot(Y.back()) / Y.back().squaredNorm();
-    for (int i = 0; i < m; ++i) {
-      const double beta = rho[i] * Y[i].dot(p);
-      p += (alpha[i] - beta) * S[i];
-    }
+    lbfgs_direction(g, S, Y, rho, alpha, p);  // p = -H g
     double dg0 = g.dot(p);
     if (!(dg0 < 0)) {  // not a descent direction (rounding): restart from steepest descent
       S.clear();
@@ -134,18 +158,7 @@ inline LbfgsResult lbfgs_minimize(Eigen::VectorXd& x, const LbfgsObjective& fg, 
       ++evals;
       // Cubic interpolation between the bracket's ends, safeguarded into its middle 80%.
       const double lo = std::min(a_lo, a_hi), hi = std::max(a_lo, a_hi), w = hi - lo;
-      double trial = 0.5 * (a_lo + a_hi);
-      if (std::isfinite(f_hi) && std::isfinite(d_hi)) {
-        const double d1 = d_lo + d_hi - 3 * (f_lo - f_hi) / (a_lo - a_hi);
-        const double disc = d1 * d1 - d_lo * d_hi;
-        if (disc >= 0) {
-          const double d2 = std::copysign(std::sqrt(disc), a_hi - a_lo);
-          const double c = a_hi - (a_hi - a_lo) * (d_hi + d2 - d1) / (d_hi - d_lo + 2 * d2);
-          if (std::isfinite(c)) trial = c;
-        }
-      }
-      trial = std::clamp(trial, lo + 0.1 * w, hi - 0.1 * w);
-      a = trial;
+      a = cubic_step(a_lo, f_lo, d_lo, a_hi, f_hi, d_hi);
       const bool finite = eval(a, fa, da);
       if (!finite || fa > f + opt.c1 * a * dg0 || fa >= f_lo) {
         a_hi = a; f_hi = finite ? fa : INFINITY; d_hi = finite ? da : INFINITY;

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "accuracy/csv_columns.hpp"
-#include "accuracy/obj_read.hpp"
+#include "io/csv_columns.hpp"
+#include "io/obj_read.hpp"
 #include "accuracy/strip_metrics.hpp"
 #include "core/error.hpp"
 

@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "bake/bake_table.hpp"
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "cpu/network_eval.hpp"
-#include "tests/bake/bake_test_util.hpp"
+#include "tests/common/bake_test_util.hpp"
 
 using namespace yarnhom;
 

@@ -7,10 +7,10 @@
 #include <cmath>
 
 #include "bake/bake_table.hpp"
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "bake/corner_twist.hpp"
 #include "bake/pair_check.hpp"
-#include "tests/bake/bake_test_util.hpp"
+#include "tests/common/bake_test_util.hpp"
 
 using namespace yarnhom;
 

@@ -8,10 +8,10 @@
 #include <cmath>
 
 #include "bake/bake_table.hpp"
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "bake/edge_slope_repair.hpp"
 #include "bake/pair_check.hpp"
-#include "tests/bake/bake_test_util.hpp"
+#include "tests/common/bake_test_util.hpp"
 
 using namespace yarnhom;
 

@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "bake/bake_table.hpp"
-#include "bake/material.hpp"
+#include "material/material.hpp"
 #include "bake/rest_check.hpp"
-#include "tests/bake/bake_test_util.hpp"
+#include "tests/common/bake_test_util.hpp"
 
 using namespace yarnhom;
 

@@ -13,10 +13,10 @@
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/model.hpp"
-#include "core/synthetic.hpp"
+#include "produce/synthetic.hpp"
 #include "tests/common/random_net.hpp"
-#include "yarn/generate.hpp"
-#include "yarn/pattern.hpp"
+#include "yarn/rod/generate.hpp"
+#include "yarn/rod/pattern.hpp"
 
 namespace yarnhom::test {
 

@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "core/h5.hpp"
 #include "core/model.hpp"
-#include "core/synthetic.hpp"
+#include "produce/synthetic.hpp"
 
 using namespace yarnhom;
 namespace fs = std::filesystem;

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "core/synthetic.hpp"
+#include "produce/synthetic.hpp"
 #include "cuda/api.hpp"
 #include "train/trainer.hpp"
 

@@ -18,8 +18,8 @@ inline sim::Vec18 gather_element(const sim::Mesh& m, const Eigen::MatrixX3d& x, 
   return q;
 }
 
-inline std::vector<sim::Strain6> mesh_strains(const sim::Mesh& m, const Eigen::MatrixX3d& x) {
-  std::vector<sim::Strain6> out(m.num_triangles());
+inline std::vector<Strain6> mesh_strains(const sim::Mesh& m, const Eigen::MatrixX3d& x) {
+  std::vector<Strain6> out(m.num_triangles());
   for (int t = 0; t < m.num_triangles(); ++t) {
     const sim::ElementRest r = sim::element_rest(m.rest.row(m.tris(t, 0)), m.rest.row(m.tris(t, 1)),
                                                  m.rest.row(m.tris(t, 2)));

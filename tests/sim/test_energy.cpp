@@ -11,11 +11,11 @@
 #include "sim/dof_map.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "sim/problem.hpp"
-#include "sim/psd_projection.hpp"
+#include "numerics/psd_projection.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/shell_energy.hpp"
-#include "tests/sim/fd_util.hpp"
-#include "tests/sim/poly_material.hpp"
+#include "tests/common/fd_util.hpp"
+#include "tests/common/poly_material.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;
@@ -128,11 +128,11 @@ TEST(PsdProjection, KeepsPsdMatricesAndClampsNegativeEigenvalues) {
   // PSD of rank 12 (zero modes like an element's rigid motions): unchanged.
   Eigen::Matrix<double, 18, 12> B = A.leftCols<12>();
   Eigen::Matrix<double, 18, 18> P = B * B.transpose(), P0 = P;
-  EXPECT_FALSE(project_psd(P));
+  EXPECT_FALSE(numerics::project_psd(P));
   EXPECT_EQ(P, P0);
   // Indefinite: projected onto the PSD cone, same eigenvectors, negative eigenvalues -> 0.
   Eigen::Matrix<double, 18, 18> S = A + A.transpose(), S0 = S;
-  EXPECT_TRUE(project_psd(S));
+  EXPECT_TRUE(numerics::project_psd(S));
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 18, 18>> e0(S0), e1(S);
   for (int i = 0; i < 18; ++i) EXPECT_NEAR(e1.eigenvalues()[i], std::max(0.0, e0.eigenvalues()[i]), 1e-10);
 }

@@ -9,12 +9,12 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-#include "sim/barrier.hpp"
+#include "numerics/barrier.hpp"
 #include "sim/friction.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/simulation.hpp"
-#include "tests/sim/fd_util.hpp"
-#include "tests/sim/poly_material.hpp"
+#include "tests/common/fd_util.hpp"
+#include "tests/common/poly_material.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;
@@ -119,7 +119,7 @@ Incline incline(double theta, double mu, Integrator integ) {
   double lo = 1e-12, hi = s.dhat;
   for (int k = 0; k < 200; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (std::abs(barrier(mid, s.dhat).db) > std::cos(theta) / 100 ? lo : hi) = mid;
+    (std::abs(numerics::distance_barrier(mid, s.dhat).db) > std::cos(theta) / 100 ? lo : hi) = mid;
   }
   const double d = 0.5 * (lo + hi);
   const Eigen::Vector3d ex(std::cos(theta), 0, std::sin(theta));
@@ -253,7 +253,7 @@ TEST(Friction, ContactsCarryTheBarriersNormalForceAndNoneWithZeroMu) {
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(c[0].vertex, 0);
   // mu lambda = mu kappa A |b'(d)|: the barrier's force on the vertex.
-  EXPECT_NEAR(c[0].mu_lambda, 0.5 * 30 * P.vertex_area[0] * std::abs(barrier(4e-4, P.dhat).db), 1e-15);
+  EXPECT_NEAR(c[0].mu_lambda, 0.5 * 30 * P.vertex_area[0] * std::abs(numerics::distance_barrier(4e-4, P.dhat).db), 1e-15);
   EXPECT_LT((c[0].T.transpose() * Eigen::Vector3d::UnitZ()).norm(), 1e-15);
   // A prescribed vertex gets none.
   EXPECT_TRUE(friction_contacts(P, {-1, 0, 1, 2}, x, x).empty());

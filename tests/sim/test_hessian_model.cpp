@@ -15,7 +15,7 @@
 #include "sim/inplane_strain.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/shell_energy.hpp"
-#include "tests/sim/poly_material.hpp"
+#include "tests/common/poly_material.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;

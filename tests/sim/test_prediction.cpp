@@ -7,7 +7,7 @@
 #include "sim/potential.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/simulation.hpp"
-#include "tests/sim/poly_material.hpp"
+#include "tests/common/poly_material.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;

@@ -6,7 +6,7 @@
 
 #include "sim/simulation.hpp"
 #include "sim/rectangle.hpp"
-#include "tests/sim/poly_material.hpp"
+#include "tests/common/poly_material.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;

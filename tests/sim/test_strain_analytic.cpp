@@ -11,6 +11,7 @@
 #include "tests/sim/sim_test_util.hpp"
 
 using namespace yarnhom::sim;
+using yarnhom::Strain6;
 using yarnhom::test::is_interior;
 using yarnhom::test::mesh_strains;
 

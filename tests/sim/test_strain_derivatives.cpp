@@ -13,9 +13,10 @@
 #include "sim/hinge_angles.hpp"
 #include "sim/inplane_strain.hpp"
 #include "sim/shell_strain.hpp"
-#include "tests/sim/fd_util.hpp"
+#include "tests/common/fd_util.hpp"
 
 using namespace yarnhom::sim;
+using yarnhom::Strain6;
 using yarnhom::test::fd_gradient;
 using yarnhom::test::fd_jacobian;
 using yarnhom::test::rel_err;

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "accuracy/hausdorff.hpp"
-#include "accuracy/obj_read.hpp"
+#include "io/obj_read.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;

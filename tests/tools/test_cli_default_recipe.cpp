@@ -12,7 +12,7 @@
 #include <random>
 #include <string>
 
-#include "bake/baked_eval.hpp"
+#include "material/baked_eval.hpp"
 #include "bake/pair_check.hpp"
 #include "bake/rest_check.hpp"
 #include "core/baked.hpp"
@@ -20,7 +20,7 @@
 #include "core/fit_metrics.hpp"
 #include "core/model.hpp"
 #include "cpu/network_eval.hpp"
-#include "tests/bake/outward_rays.hpp"
+#include "tests/common/outward_rays.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;

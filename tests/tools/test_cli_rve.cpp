@@ -1,4 +1,4 @@
-// yarnhom rve --rest-hessian: the measured d2Psi/ds2 at rest (yarn/rest_hessian.hpp) in the text
+// yarnhom rve --rest-hessian: the measured d2Psi/ds2 at rest (yarn/rve/rest_hessian.hpp) in the text
 // and JSON outputs. The JSON matrix is symmetric and its diagonal equals produce's dataset
 // attribute for the same pattern (one measurement, two commands); --start is refused with it.
 #include <gtest/gtest.h>

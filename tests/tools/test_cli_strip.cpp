@@ -128,7 +128,7 @@ TEST(CliStrip, BadOptionsAreNamed) {
   r = yarnhom::test::run_cli("strip plain --clamp 0.06 -o " + d / "x");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.out.find("--clamp"), std::string::npos) << r.out;
-  // Validated like every command (tools/cli_util.hpp): non-finite numbers, an output that is
+  // Validated like every command (tools/cli/cli_util.hpp): non-finite numbers, an output that is
   // not a folder, a pattern that is not a regular file, all refused before any work.
   r = yarnhom::test::run_cli("strip plain --clamp nan -o " + d / "x");
   EXPECT_NE(r.status, 0);

@@ -35,7 +35,8 @@ TEST(Docs, TheCheckoutCarriesItsOwnConventions) {
 
   // Nothing a user reads names the development machines' spec.
   std::vector<fs::path> files = {root / "README.md"};
-  for (const char* dir : {"docs", "core", "cpu", "cuda", "train", "bake", "yarn", "sim", "tools"}) {
+  for (const char* dir : {"docs", "core", "numerics", "io", "material", "cpu", "cuda", "train", "bake", "yarn",
+                              "produce", "sim", "accuracy", "pipeline", "tools", "scripts"}) {
     if (!fs::is_directory(root / dir)) continue;
     for (const auto& e : fs::recursive_directory_iterator(root / dir)) {
       const std::string ext = e.path().extension().string();

@@ -26,8 +26,8 @@
 #include <random>
 #include <sstream>
 
-#include "bake/baked_eval.hpp"
-#include "bake/material.hpp"
+#include "material/baked_eval.hpp"
+#include "material/material.hpp"
 #include "core/baked.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -37,8 +37,8 @@
 #include "tests/common/h5_edit.hpp"
 #include "tests/common/run_cli.hpp"
 #include "tests/common/small_files.hpp"
-#include "yarn/newton.hpp"
-#include "yarn/rve.hpp"
+#include "yarn/rve/newton.hpp"
+#include "yarn/rve/rve.hpp"
 
 namespace fs = std::filesystem;
 namespace h5e = yarnhom::test::h5edit;

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/synthetic.hpp"
+#include "produce/synthetic.hpp"
 #include "tests/common/analytic_term.hpp"
 #include "cpu/loss_step.hpp"
 #include "cpu/network_eval.hpp"
@@ -186,7 +186,7 @@ TEST(Polish, RestCurvaturePenaltyHoldsTheDatasCurvatureAtRest) {
   EXPECT_NEAR(held, k_data, 0.05 * k_data);
 }
 
-// The measured rest Hessian (Dataset::rest_hessian, yarn/rest_hessian.hpp) replaces the grid's
+// The measured rest Hessian (Dataset::rest_hessian, yarn/rve/rest_hessian.hpp) replaces the grid's
 // curvature at rest. A knit's stress-strain curve is stiffest in its first per cent, narrower
 // than the grid (the built-in stockinette: 60 J/m^2 at rest, 14 as the quick grid's central
 // difference); here Psi = 10 s^2 + a (1 - exp(-s^2/w^2)) with w = 0.01 and nodes 0.06 apart:

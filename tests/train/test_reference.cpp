@@ -1,5 +1,5 @@
 // The C++ losses and parameter gradients against the PyTorch reference
-// (tools/reference/yarnhom_ref.py, autograd to third order) on identical weights and batches,
+// (scripts/reference/yarnhom_ref.py, autograd to third order) on identical weights and batches,
 // in double: relative error under 1e-5. Skipped, with a message, when PyTorch is absent.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -76,7 +76,7 @@ TEST_P(Reference, LossesAndGradientsMatchPyTorch) {
     f.write("xo", xo, {xo.size()});
     f.write("no", no, {no.size()});
   }
-  const std::string script = std::string(YARNHOM_SOURCE_DIR) + "/tools/reference/yarnhom_ref.py";
+  const std::string script = std::string(YARNHOM_SOURCE_DIR) + "/scripts/reference/yarnhom_ref.py";
   ASSERT_EQ(std::system((py + " " + script + " check " + in + " " + out).c_str()), 0);
 
   cpu::LossWorkspace<double> ws;

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "core/synthetic.hpp"
+#include "produce/synthetic.hpp"
 #include "cpu/loss_step.hpp"
 #include "train/trainer.hpp"
 

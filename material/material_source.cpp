@@ -1,0 +1,56 @@
+#include "material/material_source.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+#include "core/baked.hpp"
+#include "core/h5.hpp"
+#include "material/hylc_material.hpp"
+
+namespace yarnhom {
+
+namespace {
+
+bool looks_like_json(const std::string& path) {
+  std::ifstream in(path);
+  char c = 0;
+  while (in.get(c))
+    if (!std::isspace(static_cast<unsigned char>(c))) return c == '{';
+  return false;
+}
+
+}  // namespace
+
+LoadedMaterial load_material(const std::string& path) {
+  std::ifstream probe(path);
+  if (!probe) throw std::invalid_argument(path + ": cannot open material file");
+  probe.close();
+  LoadedMaterial out;
+  if (looks_like_json(path)) {
+    auto mat = std::make_shared<HylcMaterial>(read_hylc_material(path));
+    out.kind = "hylc";
+    if (mat->density > 0) out.areal_density = mat->density;
+    out.fn = [mat](const Strain6& s) { return eval_hylc_material(*mat, s); };
+    return out;
+  }
+  if (!is_baked_file(path)) {
+    bool model = false;
+    try {
+      const h5::Node f = h5::open_file(path);
+      model = f.has_attr("format") && f.attr_string("format") == "yarnhom-model";
+    } catch (const std::exception&) {
+    }
+    if (model) throw std::invalid_argument(path + ": a model file; the simulator runs baked tables: run `yarnhom bake " + path + " -o BAKED.h5` first");
+    throw std::invalid_argument(path + ": not a material: expected a baked file (yarnhom bake) or a HYLC material JSON");
+  }
+  const BakedModel bm = read_baked(path);
+  auto mat = std::make_shared<BakedMaterial>(make_baked_material(bm, path, &out.missing_terms));
+  out.kind = "baked";
+  out.fn = baked_material_fn(mat);
+  if (std::isfinite(bm.areal_density) && bm.areal_density > 0) out.areal_density = bm.areal_density;
+  return out;
+}
+
+}  // namespace yarnhom

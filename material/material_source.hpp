@@ -1,0 +1,23 @@
+#pragma once
+// Loads the material a simulation runs: a baked file (`yarnhom bake`, HDF5) or a HYLC material
+// JSON (material/hylc_material.hpp), told apart by content. The areal density comes with it when
+// the file carries one: the baked file's root attribute `areal_density` (kg/m^2, carried from
+// the dataset through the model by produce/train-all/bake), HYLC's "density".
+#include <optional>
+#include <string>
+
+#include "material/material_fn.hpp"
+
+namespace yarnhom {
+
+struct LoadedMaterial {
+  MaterialFn fn;
+  std::optional<double> areal_density;  // kg/m^2
+  std::string kind;                     // "baked" or "hylc"
+  std::string missing_terms;            // baked: terms absent from the file (count as zero)
+};
+
+// Throws (naming the file) when it is neither, or is a model file that has not been baked.
+LoadedMaterial load_material(const std::string& path);
+
+}  // namespace yarnhom

@@ -1,0 +1,20 @@
+#pragma once
+// Threads of the BLAS under CHOLMOD's supernodal factorization (the simulator's and the yarn
+// strip's sparse solves). Debian's libblas.so.3 is an
+// alternative: the reference BLAS (single-threaded, no control) or OpenBLAS (scripts/install-deps.sh
+// installs it; ~5x faster factorizations at 16k triangles, docs/benchmarks.md). OpenBLAS starts
+// one thread per core and its idle workers spin for a while after each call, competing with the
+// OpenMP element loop that follows on a machine of few cores, so `sim` and `strip` set their
+// number themselves (strip, 2 cores, a 3 x 3-tile stockinette strip: 12.0 s with OpenBLAS at 2
+// threads, 7.4 s at 1, the same iterates; docs/benchmarks.md). Looked up at run time (dlsym), so
+// that the build does not depend on which BLAS is installed.
+namespace yarnhom::numerics {
+
+// Sets OpenBLAS's thread count; returns false (and does nothing) when the BLAS loaded is not
+// OpenBLAS.
+bool set_blas_threads(int threads);
+
+// "OpenBLAS <config>, N thread(s)" or "reference BLAS (or unknown)".
+const char* blas_description();
+
+}  // namespace yarnhom::numerics

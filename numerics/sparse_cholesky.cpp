@@ -1,0 +1,106 @@
+#include "numerics/sparse_cholesky.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <vector>
+
+#include "numerics/serial_openmp.hpp"
+#ifdef YARNHOM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+namespace yarnhom::numerics {
+
+SolverKind parse_solver_kind(const std::string& name) {
+  if (name == "auto") return SolverKind::Auto;
+  if (name == "ldlt") return SolverKind::Ldlt;
+  if (name == "cholmod") {
+    if (!cholmod_available()) throw std::invalid_argument("--solver cholmod: this build has no CHOLMOD (SuiteSparse)");
+    return SolverKind::Cholmod;
+  }
+  throw std::invalid_argument("solver '" + name + "': expected auto, ldlt or cholmod");
+}
+
+bool cholmod_available() {
+#ifdef YARNHOM_HAVE_CHOLMOD
+  return true;
+#else
+  return false;
+#endif
+}
+
+struct SparseCholesky::Impl {
+  bool use_cholmod = false;
+  int analyses = 0;
+  std::vector<int> last_outer, last_inner;  // the analysed pattern
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
+#ifdef YARNHOM_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
+#endif
+
+  bool same_pattern(const Eigen::SparseMatrix<double>& A) const {
+    const Eigen::Index n = A.outerSize();
+    return last_outer.size() == size_t(n + 1) && std::equal(last_outer.begin(), last_outer.end(), A.outerIndexPtr()) &&
+           last_inner.size() == size_t(A.nonZeros()) &&
+           std::equal(last_inner.begin(), last_inner.end(), A.innerIndexPtr());
+  }
+  void remember_pattern(const Eigen::SparseMatrix<double>& A) {
+    last_outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);
+    last_inner.assign(A.innerIndexPtr(), A.innerIndexPtr() + A.nonZeros());
+    ++analyses;
+  }
+};
+
+SparseCholesky::SparseCholesky(SolverKind kind) : impl_(std::make_unique<Impl>()) {
+  impl_->use_cholmod = kind == SolverKind::Cholmod || (kind == SolverKind::Auto && cholmod_available());
+#ifdef YARNHOM_HAVE_CHOLMOD
+  impl_->cholmod.cholmod().print = 0;  // a failed factorization is expected, not news
+#endif
+}
+
+SparseCholesky::~SparseCholesky() = default;
+
+bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
+  Impl& s = *impl_;
+  const bool fresh = !s.same_pattern(A);
+#ifdef YARNHOM_HAVE_CHOLMOD
+  if (s.use_cholmod) {
+    const SerialOpenMP serial;  // CHOLMOD's own OpenMP regions (numerics/serial_openmp.hpp)
+    if (fresh) {
+      s.cholmod.analyzePattern(A);
+      s.remember_pattern(A);
+    }
+    s.cholmod.factorize(A);
+    return s.cholmod.info() == Eigen::Success;
+  }
+#endif
+  if (fresh) {
+    s.ldlt.analyzePattern(A);
+    s.remember_pattern(A);
+  }
+  s.ldlt.factorize(A);
+  if (s.ldlt.info() != Eigen::Success) return false;
+  // LDL^T exists for indefinite matrices too: positive definite means every pivot > 0.
+  return (s.ldlt.vectorD().array() > 0).all();
+}
+
+Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+#ifdef YARNHOM_HAVE_CHOLMOD
+  if (impl_->use_cholmod) return impl_->cholmod.solve(b);
+#endif
+  return impl_->ldlt.solve(b);
+}
+
+double SparseCholesky::factor_nonzeros() const {
+  if (impl_->analyses == 0) return 0.0;
+#ifdef YARNHOM_HAVE_CHOLMOD
+  if (impl_->use_cholmod) return double(impl_->cholmod.cholmod().lnz);
+#endif
+  return double(impl_->ldlt.matrixL().nestedExpression().nonZeros());
+}
+
+const char* SparseCholesky::name() const { return impl_->use_cholmod ? "cholmod" : "ldlt"; }
+
+int SparseCholesky::analyses() const { return impl_->analyses; }
+
+}  // namespace yarnhom::numerics

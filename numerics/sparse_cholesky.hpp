@@ -1,0 +1,43 @@
+#pragma once
+// Sparse symmetric positive-definite factorization for every Newton system of the project
+// (the yarn RVE's and strips' through numerics/hessian_factor.hpp, the continuum simulator's
+// directly): one wrapper around CHOLMOD's supernodal Cholesky (SuiteSparse, through Eigen's
+// CholmodSupport), with Eigen's SimplicialLDLT as the alternative a user can ask for.
+//
+// The fill-reducing ordering and symbolic analysis are redone only when the sparsity pattern
+// changes (compared entry for entry; a simulation's pattern is fixed, a yarn strip's changes
+// with its contacts), so that most Newton iterations only refactor numerically.
+#include <Eigen/Sparse>
+#include <memory>
+#include <string>
+
+namespace yarnhom::numerics {
+
+enum class SolverKind { Auto, Ldlt, Cholmod };
+SolverKind parse_solver_kind(const std::string& name);  // "auto", "ldlt", "cholmod"
+bool cholmod_available();
+
+class SparseCholesky {
+ public:
+  explicit SparseCholesky(SolverKind kind = SolverKind::Auto);
+  ~SparseCholesky();
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  // A: lower triangle, compressed. Analyses the pattern when it differs from the last one's.
+  // Returns false when A is not numerically positive definite (an expected outcome: callers
+  // shift the diagonal and retry, so CHOLMOD prints nothing).
+  bool factorize(const Eigen::SparseMatrix<double>& A);
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const;
+  const char* name() const;
+  // Nonzeros of the last factor (L, or L and D), for benchmarks; 0 before the first factorization.
+  double factor_nonzeros() const;
+  // Symbolic analyses done so far.
+  int analyses() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace yarnhom::numerics

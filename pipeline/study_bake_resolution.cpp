@@ -1,0 +1,80 @@
+// yarnhom study bake-resolution: supplement Table 4 (pipeline/study.hpp).
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "core/file_checks.hpp"
+#include "core/text_file.hpp"
+#include "pipeline/stage_runner.hpp"
+#include "pipeline/study.hpp"
+#include "pipeline/study_util.hpp"
+
+namespace yarnhom::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Supplement Table 4 (wale): stress difference / Hausdorff for Bake-1, Bake-2, Bake-3, Neural.
+const std::map<std::string, std::array<std::array<double, 2>, 4>>& paper_table4() {
+  static const std::map<std::string, std::array<std::array<double, 2>, 4>> t = {
+      {"basket", {{{0.93, 0.72}, {0.87, 0.69}, {0.87, 0.69}, {0.87, 0.69}}}},
+      {"stockinette", {{{4.26, 0.82}, {3.08, 0.78}, {3.04, 0.75}, {3.04, 0.75}}}},
+      {"honeycomb", {{{5.32, 1.42}, {3.63, 1.10}, {3.54, 1.10}, {3.54, 1.10}}}},
+      {"cartridge", {{{7.39, 0.93}, {6.12, 0.81}, {6.02, 0.74}, {6.02, 0.74}}}},
+  };
+  return t;
+}
+
+struct Bake {
+  const char* label;
+  int r1, r2;
+};
+const Bake kBakes[] = {{"Bake-1", 100, 25}, {"Bake-2", 150, 50}, {"Bake-3", 200, 100}, {"network", 2000, 400}};
+
+}  // namespace
+
+void run_study_bake_resolution(const BakeResolutionOptions& o) {
+  check_output_folder(o.out);
+  const fs::path dir(o.out);
+  const std::string name = paper_name(o.pattern);
+  AccuracyOptions base = row_test(o.acc, o.pattern, o.direction, dir.string(), "");
+  base.strip_dir = (dir / "strip").string();
+  base.spline = false;
+  std::string md = "# Supplement Table 4, reproduced (" + name + ", " + o.direction +
+                   ")\n\nMean stress difference (N/m) / mean Hausdorff distance (cm) against the yarn strip.\n\n"
+                   "| bake | 1D knots | 2D knots | ours dN / H | paper dN / H |\n|---|---|---|---|---|\n";
+  std::string csv = "bake,knots1d,knots2d,mean_dN,mean_H_cm,mean_rel_pct,paper_dN,paper_H_cm\n";
+  // The dataset and the networks once; every bake of them is tested against one yarn strip.
+  const std::string model = (dir / "model.h5").string(), ds = (dir / "dataset.h5").string();
+  std::vector<std::string> in;
+  if (fs::exists(o.pattern)) in.push_back(o.pattern);
+  run_stage(dir, {"produce", produce_stage_args(o.pattern, ds, o.acc.preset, o.acc.threads), in, {ds}}, o.acc.force);
+  run_stage(dir, {"train-all", train_stage_args(ds, model, o.acc.threads, o.acc.epochs), {ds}, {model}}, o.acc.force);
+  const auto it = paper_table4().find(name);
+  for (size_t k = 0; k < 4; ++k) {
+    const Bake& b = kBakes[k];
+    const std::string baked = (dir / (std::string(b.label) + ".h5")).string();
+    run_stage(dir, {std::string("bake-") + b.label,
+                    {"bake", model, "-o", baked, "--data", ds, "--res1d", std::to_string(b.r1), "--res2d", std::to_string(b.r2)},
+                    {model, ds},
+                    {baked}},
+              o.acc.force);
+    AccuracyOptions a = base;
+    a.baked = baked;
+    a.dataset = ds;
+    a.out = (dir / b.label).string();
+    const AccuracySummary s = run_accuracy(a).materials[0].summary;
+    const std::string paper = it == paper_table4().end() ? "-" : fmt(it->second[k][0]) + " / " + fmt(it->second[k][1]);
+    md += std::string("| ") + b.label + " | " + std::to_string(b.r1) + " | " + std::to_string(b.r2) + "x" + std::to_string(b.r2) +
+          " | " + summary_md(s, " / ") + " | " + paper + " |\n";
+    csv += std::string(b.label) + "," + std::to_string(b.r1) + "," + std::to_string(b.r2) + "," + summary_csv(s) + "," +
+           (it == paper_table4().end() ? "," : fmt(it->second[k][0], "%g") + "," + fmt(it->second[k][1], "%g")) + "\n";
+    write_text_file((dir / "table4.md").string(), md);
+    write_text_file((dir / "table4.csv").string(), csv);
+  }
+  std::printf("\n%s\n-> %s/table4.md, table4.csv\n", md.c_str(), o.out.c_str());
+}
+
+}  // namespace yarnhom::pipeline

@@ -1,0 +1,251 @@
+// The branch pass of produce() (ProduceOptions::branch_rounds, produce/branch_check.hpp): each
+// grid edge whose energies and gradients disagree has both its nodes solved again from the
+// other's equilibrium; a node moves to that branch when its energy there is lower, and its grid
+// neighbours try its new branch in the next round (produce_pass.hpp).
+#include <omp.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "produce/produce_pass.hpp"
+
+namespace yarnhom::yarn {
+
+std::pair<std::vector<GridEdge>, std::vector<double>> term_edges(const ProduceRun& run, size_t ti, bool first) {
+  const Term& t = run.opt.terms[ti];
+  std::vector<Eigen::VectorXd> x, g;
+  std::vector<double> psi;
+  std::vector<bool> ok;
+  for (int id : run.term_nodes_idx[ti]) {
+    const ProduceNode& n = run.nodes[id];
+    x.push_back(n.t);
+    psi.push_back(first ? n.psi1 : n.psi);
+    Eigen::VectorXd gi(t.dim());
+    for (int d = 0; d < t.dim(); ++d) gi[d] = (first ? n.grad1 : n.grad)[t.indices[d]];
+    g.push_back(gi);
+    ok.push_back(n.status == "converged");
+  }
+  const int m = points_per_axis(run.opt.preset, t.dim());
+  return std::make_pair(grid_edges(t.dim(), m, x, psi, g, ok), edge_scales(t.dim(), m, x, g, ok));
+}
+
+namespace {
+
+// A target node's result in one round.
+struct Move {
+  bool moved = false;
+  double psi = 0, seconds = 0, cpu_seconds = 0;
+  int iterations = 0;
+  Strain grad = Strain::Zero();
+  std::shared_ptr<const RveState> state;
+};
+
+class BranchPass {
+ public:
+  explicit BranchPass(ProduceRun& run) : run_(run), opt_(run.opt), nodes_(run.nodes) {}
+
+  void run() {
+    grid_neighbours();
+    moved_in_resumed_round();
+    // A finished round that moved nothing ended the pass (a resumed run must not run another).
+    const bool finished = run_.rep.branch_rounds > 0 && moved_last_.empty();
+    for (int round = run_.rep.branch_rounds + 1; !finished && round <= opt_.branch_rounds; ++round) {
+      std::map<int, std::vector<int>> sources = round_sources();
+      if (sources.empty()) break;
+      load_source_states(sources);
+      std::vector<int> targets;
+      for (const auto& [target, from] : sources) targets.push_back(target);
+      const std::vector<Move> moves = solve_round(round, sources, targets);
+      apply_round(sources, targets, moves);
+      CheckpointRecord end;
+      end.term = -1;
+      end.index = round;
+      end.status = kBranchRound;
+      run_.append(end);
+      run_.rep.branch_rounds = round;
+      if (round_moved_ == 0) break;
+    }
+  }
+
+ private:
+  // Grid neighbours of every node, and each term's smallest meaningful energy gain.
+  void grid_neighbours() {
+    neighbours_.assign(nodes_.size(), {});
+    term_gain_.assign(opt_.terms.size(), 0.0);
+    for (size_t ti = 0; ti < opt_.terms.size(); ++ti) {
+      const auto [edges, scale] = term_edges(run_, ti, false);
+      term_gain_[ti] = 1e-2 * opt_.branch_tolerance * *std::min_element(scale.begin(), scale.end());
+      for (const GridEdge& e : edges) {
+        neighbours_[run_.term_nodes_idx[ti][e.a]].push_back(run_.term_nodes_idx[ti][e.b]);
+        neighbours_[run_.term_nodes_idx[ti][e.b]].push_back(run_.term_nodes_idx[ti][e.a]);
+      }
+    }
+  }
+
+  // The nodes that moved in the previous round: their neighbours try the new branch too (a
+  // lower branch spreads along the grid one node per round). A resumed run recomputes them
+  // from the records of the last round it finished.
+  void moved_in_resumed_round() {
+    const CheckpointContents& cc = run_.cc;
+    if (run_.rep.branch_rounds > 0)
+      for (size_t k = 0, round = 0; k < cc.records.size(); ++k) {
+        if (cc.records[k].status == kBranchRound) {
+          round = cc.records[k].index;
+          continue;
+        }
+        if (cc.records[k].status == kLowerBranch && int(round) == run_.rep.branch_rounds - 1)
+          moved_last_.push_back(run_.term_nodes_idx[cc.records[k].term][cc.records[k].index]);
+      }
+  }
+
+  // Each inconsistent edge: both its nodes try the other's branch. Every node's energy may
+  // only go down, by more than a small part of the flagging threshold, so no node ever returns
+  // to a branch it left and the rounds end. Pairs already tried are left out.
+  std::map<int, std::vector<int>> round_sources() {
+    std::map<int, std::vector<int>> sources;
+    min_gain_.clear();
+    for (int id : moved_last_)
+      for (int nb : neighbours_[id])
+        if (nodes_[nb].t.norm() > 0 && nodes_[nb].status == "converged")
+          sources[nb].push_back(id), min_gain_[nb] = term_gain_[nodes_[nb].term];
+    for (size_t ti = 0; ti < opt_.terms.size(); ++ti) {
+      const auto [edges, scale] = term_edges(run_, ti, false);
+      const double gain = term_gain_[ti];
+      for (const GridEdge& e : inconsistent_edges(edges, opt_.branch_tolerance)) {
+        // The origin is the rest state by definition (s = 0 is the relaxed tile): never a target.
+        const int a = run_.term_nodes_idx[ti][e.a], b = run_.term_nodes_idx[ti][e.b];
+        if (nodes_[a].t.norm() > 0) sources[a].push_back(b), min_gain_[a] = gain;
+        if (nodes_[b].t.norm() > 0) sources[b].push_back(a), min_gain_[b] = gain;
+      }
+    }
+    for (auto it = sources.begin(); it != sources.end();) {
+      auto& from = it->second;
+      from.erase(std::remove_if(from.begin(), from.end(), [&](int src) { return tried_.count({it->first, src}) > 0; }),
+                 from.end());
+      it = from.empty() ? sources.erase(it) : std::next(it);
+    }
+    return sources;
+  }
+
+  // The sources' states, read back serially (the checkpoint file is one stream).
+  void load_source_states(std::map<int, std::vector<int>>& sources) {
+    for (auto& [target, from] : sources) {
+      std::sort(from.begin(), from.end());
+      from.erase(std::unique(from.begin(), from.end()), from.end());
+      for (int id : from) {
+        if (run_.final_state[id]) continue;
+        const ProduceNode& n = nodes_[id];
+        const int record = n.branch_record >= 0 ? n.branch_record : n.record;
+        if (n.t.norm() == 0) {
+          run_.final_state[id] = std::make_shared<RveState>(run_.rest());
+        } else if (record >= 0 && run_.cc.records[record].has_state) {
+          CheckpointRecord rec = run_.cc.records[record];
+          read_checkpoint_state(opt_.checkpoint, run_.rest(), rec);
+          run_.final_state[id] = std::make_shared<RveState>(std::move(rec.state));
+        }
+      }
+    }
+  }
+
+  // One target: a solve from each source's equilibrium straight to its strain; the lowest
+  // energy below the target's own (by more than the term's gain) wins.
+  Move solve_target(int target, const std::vector<int>& from) const {
+    const ProduceNode& n = nodes_[target];
+    Move mv;
+    double best = n.psi - min_gain_.at(target);
+    // A neighbour's branch is one grid step away: a solve that needs more than a few dozen
+    // Newton iterations from there (the basket's hard corners crawl for hundreds) is not
+    // continuing that branch, and is given up (measured on the basket, quick preset: the
+    // late rounds' few nodes took 10 s each with the full budget and a 4-step retry).
+    SolveOptions pass_solve = opt_.solve;
+    pass_solve.max_iterations = std::min(pass_solve.max_iterations, 40);
+    for (int src : from) {
+      if (!run_.final_state[src]) continue;
+      // From the neighbour's equilibrium straight to this node's strain.
+      RveState y = *run_.final_state[src];
+      const DensityResult r = energy_density(run_.rve(), n.s, y, pass_solve);
+      mv.seconds += r.report.seconds;
+      mv.cpu_seconds += r.report.cpu_seconds;
+      mv.iterations += r.report.iterations;
+      if (r.report.converged() && y.certificate.valid && r.psi < best) {
+        best = r.psi;
+        mv.moved = true;
+        mv.psi = r.psi;
+        mv.grad = r.grad;
+        mv.state = std::make_shared<RveState>(std::move(y));
+      }
+    }
+    return mv;
+  }
+
+  std::vector<Move> solve_round(int round, const std::map<int, std::vector<int>>& sources,
+                                const std::vector<int>& targets) {
+    std::vector<Move> moves(targets.size());
+    int round_done = 0;
+    round_moved_ = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(run_.threads)
+    for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
+      moves[k] = solve_target(targets[k], sources.at(targets[k]));
+      std::lock_guard<std::mutex> lock(run_.mu);
+      ++round_done;
+      if (moves[k].moved) ++round_moved_;
+      if (opt_.branch_progress)
+        opt_.branch_progress(round, round_done, int(targets.size()), round_moved_, run_.elapsed());
+    }
+    return moves;
+  }
+
+  // Applied together, in node order: the round's result does not depend on the threads.
+  void apply_round(const std::map<int, std::vector<int>>& sources, const std::vector<int>& targets,
+                   const std::vector<Move>& moves) {
+    for (const auto& [target, from] : sources)
+      for (int src : from) tried_.insert({target, src});
+    moved_last_.clear();
+    for (size_t k = 0; k < targets.size(); ++k) {
+      ProduceNode& n = nodes_[targets[k]];
+      const Move& mv = moves[k];
+      n.iterations += mv.iterations;
+      n.seconds += mv.seconds;
+      n.cpu_seconds += mv.cpu_seconds;
+      if (!mv.moved) continue;
+      n.psi = mv.psi;
+      n.grad = mv.grad;
+      n.moved = true;
+      moved_last_.push_back(targets[k]);
+      for (auto it = tried_.begin(); it != tried_.end();)
+        it = it->first == targets[k] || it->second == targets[k] ? tried_.erase(it) : std::next(it);
+      n.min_separation = mv.state->certificate.min_distance;
+      run_.final_state[targets[k]] = mv.state;
+      if (run_.ck) {
+        CheckpointRecord rec = record_of(n, kLowerBranch);
+        rec.has_state = true;
+        rec.state = *mv.state;
+        run_.append(rec);
+      }
+    }
+  }
+
+  ProduceRun& run_;
+  const ProduceOptions& opt_;
+  std::vector<ProduceNode>& nodes_;
+  std::vector<std::vector<int>> neighbours_;
+  std::vector<double> term_gain_;
+  std::vector<int> moved_last_;
+  // Per target of the current round: the gain its energy must make.
+  std::map<int, double> min_gain_;
+  // (target, source) pairs already tried that did not move the target: the same two states
+  // give the same solve, so they are tried again only after one of the two has moved. (Not
+  // checkpointed: a resumed run tries them once more, finds the same, and ends the same.)
+  std::set<std::pair<int, int>> tried_;
+  int round_moved_ = 0;
+};
+
+}  // namespace
+
+void branch_pass(ProduceRun& run) {
+  if (run.opt.warm_start && run.opt.branch_rounds > 0) BranchPass(run).run();
+}
+
+}  // namespace yarnhom::yarn

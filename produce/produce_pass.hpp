@@ -1,0 +1,96 @@
+#pragma once
+// Internal to produce/: the state one produce() run (produce.cpp) shares among its steps, in
+// their order: the rest tile and the rest Hessian (produce.cpp), the nodes and the checkpoint
+// resumed from (produce_resume.cpp), the first pass of warm-started solves (first_pass.cpp),
+// the branch pass (branch_pass.cpp), and the dataset written from the nodes
+// (produce_dataset.cpp).
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "produce/branch_check.hpp"
+#include "produce/produce.hpp"
+#include "produce/produce_checkpoint.hpp"
+#include "yarn/rve/energy_density.hpp"
+
+namespace yarnhom::yarn {
+
+// One node of a term's grid.
+struct ProduceNode {
+  int term = 0, index = 0;   // term position in opt.terms, node index in term_nodes order
+  Eigen::VectorXd t;         // term coordinates
+  Strain s;
+  bool done = false, resumed = false;
+  double psi = 0;
+  Strain grad = Strain::Zero();
+  std::string status;
+  int iterations = 0;
+  double seconds = 0, cpu_seconds = 0;
+  double min_separation = std::numeric_limits<double>::infinity();  // certificate's closest distance (m)
+  // Resumed: its record in the checkpoint (-1: none), whose state (converged nodes of warm
+  // started runs) is read back when a child still to be solved starts from it.
+  int record = -1;
+  bool state_needed = false;
+  // As first solved (before the branch pass), and whether the pass moved it.
+  double psi1 = 0;
+  Strain grad1 = Strain::Zero();
+  bool moved = false;
+  int branch_record = -1;  // resumed: its last branch record (-1: none)
+};
+
+// Checkpoint records of the branch pass: a node moved to a lower branch (its new state), and the
+// end of a round (term -1, index = the round). A round is resumed only when its end is recorded.
+inline constexpr char kLowerBranch[] = "lower-branch";
+inline constexpr char kBranchRound[] = "branch-round";
+
+// A node's checkpoint record, without its state.
+CheckpointRecord record_of(const ProduceNode& n, const std::string& status);
+
+struct ProduceRun {
+  ProduceRun(const Pattern& pattern, const ProduceOptions& opt, RestTile tile);
+  const Pattern& pattern;
+  const ProduceOptions& opt;
+  const RestTile tile;  // the RVE and its rest state: the origin of every sector, and Psi0
+  const RveProblem& rve() const { return tile.rve; }
+  const RveState& rest() const { return tile.state; }
+  DensityResult r0;     // Psi and dPsi/ds at rest
+  int threads = 1;
+  std::vector<ProduceNode> nodes;
+  std::vector<std::vector<int>> term_nodes_idx;  // per term: its nodes' ids, in term_nodes order
+  // The checkpoint: what was resumed from it, and the file appended to (null: none).
+  CheckpointContents cc;
+  std::FILE* ck = nullptr;
+  std::string checkpoint_error;
+  // Every converged node's state, for the branch pass (null: not kept, or resumed: read back
+  // from the checkpoint when the pass needs it).
+  std::vector<std::shared_ptr<const RveState>> final_state;
+  ProduceReport rep;
+  std::mutex mu;
+  std::chrono::steady_clock::time_point t0;
+  double elapsed() const;
+  // Appends a record; a failure stops the checkpoint, not the work (the dataset is what
+  // matters; only resuming is lost). Called from one thread at a time.
+  void append(const CheckpointRecord& rec);
+};
+
+// Nodes of every term (the origin of each is the rest state, done).
+void make_nodes(ProduceRun& run);
+// Resume: samples finished by an earlier run of the same command, with the states they ended
+// in (produce/produce_checkpoint.hpp), so that the run goes on exactly as if never stopped;
+// then the checkpoint is opened for appending.
+void resume_checkpoint(ProduceRun& run, const std::string& fingerprint);
+// Every node not resumed, sector by sector with warm starts (supplement Algorithm 1).
+void first_pass(ProduceRun& run);
+// The branch pass (ProduceOptions::branch_rounds, produce/branch_check.hpp).
+void branch_pass(ProduceRun& run);
+// A term's grid edges and its typical edge changes, from the nodes as first solved or as now.
+std::pair<std::vector<GridEdge>, std::vector<double>> term_edges(const ProduceRun& run, size_t ti, bool first);
+// The dataset (spec section 3 targets) and the terms' summaries in run.rep.
+Dataset assemble_dataset(ProduceRun& run);
+
+}  // namespace yarnhom::yarn

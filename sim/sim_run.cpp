@@ -1,0 +1,248 @@
+#include "sim/sim_run.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <memory>
+#include <stdexcept>
+
+#include "core/console.hpp"
+#include "core/heap_policy.hpp"
+#include "core/number_list.hpp"
+#include "material/material_source.hpp"
+#include "numerics/blas_threads.hpp"
+#include "sim/hessian_model.hpp"
+#include "sim/scene_json.hpp"
+
+namespace yarnhom::sim {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// What the renderer needs besides the frames: the colliders (drawn under the cloth).
+void write_scene_info(const std::string& dir, const Scene& s) {
+  nlohmann::json j;
+  j["name"] = s.name;
+  j["colliders"] = nlohmann::json::array();
+  for (const Collider& c : s.colliders) {
+    if (c.kind == Collider::Kind::Sphere)
+      j["colliders"].push_back({{"sphere", {{"center", {c.center.x(), c.center.y(), c.center.z()}}, {"radius", c.radius}}}});
+    else
+      j["colliders"].push_back({{"plane", {{"point", {c.center.x(), c.center.y(), c.center.z()}},
+                                           {"normal", {c.normal.x(), c.normal.y(), c.normal.z()}}}}});
+  }
+  std::ofstream((fs::path(dir) / "scene_info.json").string()) << j.dump(1) << "\n";
+}
+
+// "mu 0.3" when every collider has the same coefficient, else the list; "none" without colliders.
+std::string friction_description(const Scene& s) {
+  if (s.colliders.empty()) return "none (no collider)";
+  std::string out;
+  bool same = true;
+  for (const Collider& c : s.colliders) same = same && c.friction == s.colliders[0].friction;
+  char buf[64];
+  for (size_t k = 0; k < (same ? 1 : s.colliders.size()); ++k) {
+    std::snprintf(buf, sizeof buf, "%s%g", k ? ", " : "mu ", s.colliders[k].friction);
+    out += buf;
+  }
+  if (s.integrator == Integrator::Linearized && out != "mu 0") out += " (not applied by the linearized integrator)";
+  return out;
+}
+
+// The built-in stretch scene's --size, --stretch and --clamp.
+StretchSize stretch_size(const SimRunOptions& o) {
+  StretchSize size;
+  if (!o.size.empty()) {
+    const std::vector<double> wl = parse_numbers(o.size, "--size");
+    if (wl.size() != 2 || !(wl[0] > 0) || !(wl[1] > 0))
+      throw std::invalid_argument("--size " + o.size + ": expected WIDTH,LENGTH in metres, both positive");
+    size.width = wl[0];
+    size.length = wl[1];
+  }
+  if (!o.stretch.empty()) {
+    const std::vector<double> r = parse_stretch_range(o.stretch);
+    if (std::abs(r.front() - 1.0) > 1e-9 || r.size() < 2)
+      throw std::invalid_argument("--stretch " + o.stretch + ": give 1.0:LAST:STEP with LAST > 1 (the strip starts at 100 %)");
+    size.last = r.back();
+    size.steps = int(r.size()) - 1;
+  }
+  if (o.clamp >= 0) size.clamp = o.clamp;
+  return size;
+}
+
+// The scene with the command line's overrides.
+Scene make_scene(const SimRunOptions& o) {
+  const bool file = o.scene.size() > 5 && o.scene.substr(o.scene.size() - 5) == ".json";
+  if ((!o.size.empty() || !o.stretch.empty() || o.clamp >= 0) && o.scene != "stretch")
+    throw std::invalid_argument("--size, --stretch and --clamp apply to the built-in stretch scene only");
+  if (!o.stretch.empty() && o.frames > 0)
+    throw std::invalid_argument("--stretch sets the load steps; give it or --frames, not both");
+  const StretchSize size = stretch_size(o);
+  Scene s = file ? read_scene_json(o.scene) : builtin_scene(o.scene, o.resolution, o.direction == "wale" ? 'y' : 'x', size);
+  if (file && o.resolution) throw std::invalid_argument("--resolution applies to the built-in scenes only");
+  if (!o.integrator.empty()) s.integrator = parse_integrator(o.integrator);
+  if (o.dt > 0) s.dt = o.dt;
+  if (o.substeps > 0) s.substeps = o.substeps;
+  if (o.frames > 0) s.frames = o.frames;
+  if (o.tol > 0) s.newton.tol_step = o.tol;
+  if (o.max_iterations > 0) s.newton.max_iterations = o.max_iterations;
+  if (o.alpha >= 0) s.rayleigh_alpha = o.alpha;
+  if (o.beta >= 0) s.rayleigh_beta = o.beta;
+  if (o.air >= 0) s.air_drag = o.air;
+  if (o.friction >= 0)
+    for (Collider& c : s.colliders) c.friction = o.friction;
+  if (o.eps_v > 0) s.friction_eps_v = o.eps_v;
+  if (o.friction_updates >= 0) s.friction_updates = o.friction_updates;
+  if (!o.render.empty()) {
+    s.render_frames.clear();
+    if (o.render != "none")
+      for (double f : parse_numbers(o.render, "--render")) {
+        if (f != int(f) || f < 0) throw std::invalid_argument("--render: frame numbers must be integers >= 0");
+        s.render_frames.push_back(int(f));
+      }
+  }
+  return s;
+}
+
+// Density: the command line, then the scene file, then the material; refused where the run
+// needs a mass and there is none.
+double areal_density(const SimRunOptions& o, const Scene& s, const LoadedMaterial& mat, const std::string& mpath,
+                     std::string& from) {
+  double rho = 0;
+  if (o.density > 0) {
+    rho = o.density;
+    from = "--density";
+  } else if (s.areal_density) {
+    rho = *s.areal_density;
+    from = "the scene file";
+  } else if (mat.areal_density) {
+    rho = *mat.areal_density;
+    from = mpath;
+  }
+  const bool needs_mass = s.integrator != Integrator::Static || s.gravity.norm() > 0;
+  if (needs_mass && !(rho > 0))
+    throw std::invalid_argument(mpath + " carries no areal density (a baked file gets the attribute areal_density from "
+                                "its dataset; older files have none): give --density KG_PER_M2, e.g. --density 0.3");
+  return rho;
+}
+
+// The progress line: redrawn in place on a terminal, else one line per tenth of the run.
+FrameCallback progress_line(const SimRunOptions& o, const Scene& s, Clock::time_point start) {
+  const bool tty = stderr_is_tty();
+  auto last_line = std::make_shared<int>(-1);
+  const bool quiet = o.quiet;
+  const int frames = s.frames;
+  return [=](int frame, const SimResult& r) {
+    if (quiet) return;
+    const double el = std::chrono::duration<double>(Clock::now() - start).count();
+    const double eta = el / frame * (frames - frame);
+    double its = 0;
+    for (const StepRecord& st : r.steps) its += st.iterations;
+    const double per = r.steps.empty() ? 0 : 1e3 * el / r.steps.size();
+    const int pct = 100 * frame / frames;
+    if (!tty && pct / 10 == *last_line && frame != frames) return;
+    *last_line = pct / 10;
+    std::fprintf(stderr, "%sframe %d/%d  %.1f Newton it/step  %.0f ms/step  elapsed %s  ETA %s%s", tty ? "\r" : "", frame,
+                 frames, r.steps.empty() ? 0.0 : its / r.steps.size(), per, format_seconds(el).c_str(),
+                 format_seconds(eta).c_str(), tty ? "   " : "\n");
+  };
+}
+
+void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& set, const SimResult& r, double el) {
+  double its = 0, wall = 0;
+  int unconverged = 0;
+  StepRecord sum;
+  for (const StepRecord& st : r.steps) {
+    its += st.iterations;
+    wall += st.wall;
+    unconverged += !st.converged;
+    sum.t_strain += st.t_strain;
+    sum.t_material += st.t_material;
+    sum.t_chain += st.t_chain;
+    sum.t_project += st.t_project;
+    sum.t_scatter += st.t_scatter;
+    sum.t_assemble += st.t_assemble;
+    sum.t_solve += st.t_solve;
+    sum.t_line_search += st.t_line_search;
+    sum.projected += st.projected;
+    sum.elements += st.elements;
+  }
+  const double n = std::max<size_t>(1, r.steps.size());
+  std::fprintf(stderr, "sim %s: %d/%d frames, %zu steps, %.2f Newton iterations/step, %.1f ms/step, %s total%s\n",
+               s.name.c_str(), r.frames_done, s.frames, r.steps.size(), its / n, 1e3 * wall / n,
+               format_seconds(el).c_str(),
+               unconverged ? (", " + std::to_string(unconverged) + " step(s) not converged to --tol").c_str() : "");
+  if (o.profile)
+    std::fprintf(stderr,
+                 "profile (ms per step): assembly %.2f wall [element loop CPU: strain %.2f, material %.2f, chain rule "
+                 "%.2f, PSD projection %.2f (%.1f %% of elements), scatter %.2f], solve %.2f, line search %.2f; "
+                 "solver %s\n",
+                 1e3 * sum.t_assemble / n, 1e3 * sum.t_strain / n, 1e3 * sum.t_material / n, 1e3 * sum.t_chain / n,
+                 1e3 * sum.t_project / n, sum.elements ? 100.0 * sum.projected / sum.elements : 0.0,
+                 1e3 * sum.t_scatter / n, 1e3 * sum.t_solve / n, 1e3 * sum.t_line_search / n,
+                 numerics::SparseCholesky(set.solver).name());
+  if (!r.stretch.empty()) {
+    std::fprintf(stderr, "stretch   N/m (clamp)   dPsi/ds at the middle\n");
+    for (const StretchRow& row : r.stretch)
+      std::fprintf(stderr, "%6.0f %%  %12.5g  %12.5g\n", 100 * row.stretch, row.force_per_width, row.middle_dpsi);
+  }
+}
+
+}  // namespace
+
+SimRunOutcome run_sim(const SimRunOptions& o) {
+  const Scene s = make_scene(o);
+  const std::string mpath = o.material.empty() ? s.material : o.material;
+  if (mpath.empty()) throw std::invalid_argument("no material: give --material BAKED.h5 (or a HYLC material JSON)");
+  const LoadedMaterial mat = load_material(mpath);
+  std::string rho_from;
+  const double rho = areal_density(o, s, mat, mpath, rho_from);
+  if (o.threads > 0) omp_set_num_threads(o.threads);
+  numerics::set_blas_threads(o.blas_threads > 0 ? o.blas_threads : 1);
+  retain_freed_memory();  // every Newton iteration reallocates the same large arrays (core/heap_policy.hpp)
+  SimSettings set;
+  set.out_dir = o.out;
+  set.solver = parse_solver_kind(o.solver);
+  set.hessian = parse_hessian_model(o.hessian);
+  set.profile = o.profile;
+  set.write_frames = !o.no_frames;
+  fs::create_directories(o.out);
+  write_scene_info(o.out, s);
+  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  std::fprintf(stderr,
+               "sim %s: %d triangles, %d vertices; material %s (%s)%s; density %g kg/m^2%s; %s, dt %g s x %d "
+               "substep(s), %d %s; friction %s; %d thread(s); %s\n",
+               s.name.c_str(), s.mesh.num_triangles(), s.mesh.num_vertices(), mpath.c_str(), mat.kind.c_str(),
+               mat.missing_terms.empty() ? "" : (", absent terms count as 0: " + mat.missing_terms).c_str(), rho,
+               rho_from.empty() ? "" : (" (from " + rho_from + ")").c_str(), integrator_name(s.integrator), s.dt,
+               s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames",
+               friction_description(s).c_str(), threads, numerics::blas_description());
+  const auto start = Clock::now();
+  SimRunOutcome out{s.name, s.render_frames, run_simulation(s, mat.fn, rho, set, progress_line(o, s, start))};
+  if (stderr_is_tty() && !o.quiet) std::fprintf(stderr, "\n");
+  print_summary(o, s, set, out.result, std::chrono::duration<double>(Clock::now() - start).count());
+  return out;
+}
+
+int sim_exit_status(const SimRunOutcome& r) {
+  if (!r.result.diverged.empty()) {
+    std::fprintf(stderr, "sim %s: stopped at step %zu (frame %d): %s\n", r.scene.c_str(), r.result.steps.size(),
+                 r.result.frames_done + 1, r.result.diverged.c_str());
+    return 3;
+  }
+  if (!r.result.finite) {
+    std::fprintf(stderr, "sim %s: the simulation became non-finite at step %zu (frame %d)\n", r.scene.c_str(),
+                 r.result.steps.size(), r.result.frames_done + 1);
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace yarnhom::sim

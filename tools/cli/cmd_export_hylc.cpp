@@ -1,0 +1,21 @@
+// yarnhom export-hylc BAKED.h5 -o MATERIAL.json: a baked file in HYLC's material format, so
+// that ARCSim-HYLC (and `yarnhom sim`) can load it (material/hylc_export.hpp).
+#include "material/hylc_export.hpp"
+#include "tools/cli/cli_util.hpp"
+
+namespace yarnhom::tools {
+
+void register_export_hylc(CLI::App& app) {
+  auto [cmd, o] = add_command<HylcExportOptions>(app, "export-hylc");
+  cmd->add_option("BAKED", o->baked, "Baked file written by `yarnhom bake`")->required()->check(CLI::ExistingFile);
+  add_output_option(cmd, o->out, "The material JSON to write");
+  cmd->add_option("--density", o->density,
+                  "Areal density in kg/m^2 written as HYLC's \"density\" (default: the baked file's areal_density "
+                  "attribute; required when the file has none)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--margin", o->margin, "Extension of each box on both sides, in box widths (default 0.5)")
+      ->check(CLI::Range(0.0, 10.0));
+  cmd->callback([o] { export_hylc(*o); });
+}
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,106 @@
+// yarnhom sim SCENE -o OUT: simulate cloth with a baked material (or a HYLC material JSON):
+// built-in scenes drape, hang, stretch, or a scene file (sim/sim_run.hpp, pipeline/sim_command.hpp).
+#include "pipeline/sim_command.hpp"
+#include "tools/cli/cli_util.hpp"
+
+namespace yarnhom::tools {
+
+namespace {
+
+// The built-in stretch scene's strip.
+void add_stretch_options(CLI::App* cmd, sim::SimRunOptions& o) {
+  cmd->add_option("--direction", o.direction, "stretch: the strip's long axis, course (x) or wale (y)")
+      ->check(CLI::IsMember({"course", "wale"}));
+  cmd->add_option("--size", o.size,
+                  "stretch: WIDTH,LENGTH of the strip in metres (default 0.05,0.10, the paper's); the default "
+                  "resolution is then one quad per 5 mm across")
+      ->check(non_empty());
+  cmd->add_option("--stretch", o.stretch,
+                  "stretch: load steps as 1.0:LAST:STEP, clamp separation / length (default 1.0:1.7:0.05); the strip "
+                  "is always relaxed at 100 % first. Replaces --frames")
+      ->check(non_empty());
+  cmd->add_option("--clamp", o.clamp,
+                  "stretch: clamp band at each short end in metres, every vertex within it held (default 0.005, "
+                  "as yarnhom strip's --clamp; 0: the end rows only)")
+      ->check(finite_non_negative());
+}
+
+// Time stepping, the Newton solves and the forces.
+void add_integrator_options(CLI::App* cmd, sim::SimRunOptions& o) {
+  cmd->add_option("--integrator", o.integrator,
+                  "newton (implicit Euler, Newton + line search; default), linearized (ARCSim-HYLC's one-solve "
+                  "step), static (load steps to equilibrium; stretch's default)")
+      ->check(CLI::IsMember({"newton", "linearized", "static"}));
+  cmd->add_option("--dt", o.dt, "Seconds per frame (default 1/30)")->check(CLI::PositiveNumber);
+  cmd->add_option("--substeps", o.substeps, "Time steps per frame (default 1)")->check(CLI::Range(1, 100000));
+  cmd->add_option("--frames", o.frames, "Frames to simulate (or load steps for static runs)")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--tol", o.tol, "Newton tolerance: largest vertex move of a Newton step, m (default: 1e-2 l dt per step for "
+                  "dynamics (IPC's velocity criterion), 1e-8 l for statics, l the sheet's rest diagonal; stretch 1e-9)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-iterations", o.max_iterations, "Newton iterations per step at most (default 100)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--rayleigh-alpha", o.alpha, "Mass-proportional damping, 1/s (default 0)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rayleigh-beta", o.beta, "Stiffness-proportional damping, s (default 0)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--air", o.air, "Air drag on the normal velocity, kg/(m^2 s) (default 0)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--friction", o.friction,
+                  "Coulomb friction coefficient mu between the cloth and every collider, overriding the scene's "
+                  "(drape: 0.3; scene files: their \"friction\", else 0; 0 = frictionless). IPC's lagged smooth "
+                  "friction: the normal force and tangent plane of each contact taken at the step's start; not "
+                  "applied by --integrator linearized (docs/sim.md)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--friction-eps-v", o.eps_v,
+                  "Friction's sticking velocity threshold eps_v, m/s: below it the friction force ramps smoothly "
+                  "from 0 to mu lambda, so static friction is a creep slower than eps_v (default 1e-3 sheet "
+                  "diagonals per second)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--friction-updates", o.friction_updates,
+                  "Re-solves of each step with the normal forces and tangent planes taken at its solution "
+                  "(IPC's lag updates; default 0: lagged at the step's start)")
+      ->check(CLI::Range(0, 100));
+}
+
+// The linear solves, threads and outputs.
+void add_solver_options(CLI::App* cmd, sim::SimRunOptions& o) {
+  cmd->add_option("--solver", o.solver, "Sparse solver: auto (CHOLMOD when built with it), ldlt (Eigen), cholmod")
+      ->check(CLI::IsMember({"auto", "ldlt", "cholmod"}));
+  cmd->add_option("--hessian", o.hessian,
+                  "PSD model of each element's Hessian for the Newton solves (and the linearized integrator's "
+                  "stiffness): split (default: the material's 6x6 d2Psi/ds2 and the in-plane curvature term "
+                  "projected, the bending curvature term left out; about 3x cheaper to assemble, as few Newton "
+                  "iterations on the drapes measured) or projected (the exact 18x18 element Hessian projected onto "
+                  "the PSD cone); docs/sim.md")
+      ->check(CLI::IsMember({"projected", "split"}));
+  add_threads_option(cmd, o.threads, "Threads for the element loop (default: all cores)", 1);
+  cmd->add_option("--blas-threads", o.blas_threads,
+                  "Threads of OpenBLAS inside CHOLMOD's factorization (default 1: on a machine of few shared cores "
+                  "its spinning workers slow the element loop more than they speed the factorization; "
+                  "docs/benchmarks.md). Ignored with the reference BLAS")
+      ->check(CLI::Range(1, 1024));
+  cmd->add_option("--render", o.render, "Frames to draw as PNG, e.g. 0,30,90, or none (default: the scene's)");
+  cmd->add_flag("--no-frames", o.no_frames, "Do not write an OBJ per frame (timing runs)");
+  cmd->add_flag("--profile", o.profile, "Time each step's parts (strain, material, chain rule, projection, assembly, solve)");
+  add_quiet_flag(cmd, o.quiet, "No progress line");
+}
+
+}  // namespace
+
+void register_sim(CLI::App& app) {
+  auto [cmd, o] = add_command<sim::SimRunOptions>(app, "sim");
+  cmd->add_option("SCENE", o->scene, "drape, hang, stretch, or a scene file (.json)")->required();
+  add_output_option(cmd, o->out, "Output folder (created)");
+  cmd->add_option("--material", o->material,
+                  "Baked file (yarnhom bake) or HYLC material JSON; required unless the scene file names one");
+  cmd->add_option("--density", o->density,
+                  "Areal density in kg/m^2 (default: the scene file's, else the material's; required for gravity "
+                  "when neither has one)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--resolution", o->resolution,
+                  "Built-in scenes: quads along the sheet's side (drape 40, hang 30) or across the strip (stretch 10)")
+      ->check(CLI::Range(1, 2000));
+  add_stretch_options(cmd, *o);
+  add_integrator_options(cmd, *o);
+  add_solver_options(cmd, *o);
+  cmd->callback([o] { exit_with(pipeline::run_sim_command(*o)); });
+}
+
+}  // namespace yarnhom::tools

@@ -1,0 +1,69 @@
+// yarnhom study table5 | bake-resolution | strip-width | rve-size: the supplement's accuracy
+// tables as commands (docs/accuracy.md; pipeline/study.hpp). Each runs the accuracy test for
+// several patterns, directions or materials, cached and resumable stage by stage.
+#include "pipeline/study.hpp"
+#include "tools/cli/accuracy_options.hpp"
+#include "tools/cli/cli_util.hpp"
+
+namespace yarnhom::tools {
+
+namespace {
+
+// A study: its own options, then the accuracy test's; the callback runs it.
+template <class Options>
+void add_study(CLI::App* study, const std::string& name, void (*add_own)(CLI::App*, Options&),
+               void (*run)(const Options&), const AccuracyOptionHelp& help = {}) {
+  auto [cmd, o] = add_command<Options>(*study, name);
+  add_own(cmd, *o);
+  add_accuracy_options(cmd, o->acc, help);
+  cmd->callback([o, run] { run(*o); });
+}
+
+void add_table5_options(CLI::App* cmd, pipeline::Table5Options& o) {
+  cmd->add_option("PATTERNS", o.patterns, "Pattern files (.pyp) or built-in names: the paper's are basket, stockinette, slip_stitch_honeycomb, cartridge_belt_rib")
+      ->required();
+  cmd->add_option("--directions", o.directions, "Directions to test (comma-separated or repeated)")->delimiter(',')->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
+  add_output_option(cmd, o.out, "Output folder (created)");
+}
+
+void add_bake_resolution_options(CLI::App* cmd, pipeline::BakeResolutionOptions& o) {
+  add_pattern_argument(cmd, o.pattern, "Pattern file (.pyp) or built-in name");
+  add_direction_option(cmd, o.direction)->capture_default_str();
+  add_output_option(cmd, o.out, "Output folder (created)");
+}
+
+void add_strip_width_options(CLI::App* cmd, pipeline::StripWidthOptions& o) {
+  add_pattern_argument(cmd, o.pattern, "Pattern (.pyp file or built-in name)");
+  add_direction_option(cmd, o.direction)->capture_default_str();
+  cmd->add_option("--widths", o.widths, "Strip widths in metres (comma-separated or repeated)")
+      ->delimiter(',')
+      ->check(finite_positive())
+      ->capture_default_str();
+  cmd->add_option("--length", o.length, "Strip length in metres (along the stretch)")->check(finite_positive())->capture_default_str();
+  add_reuse_options(cmd, o.dataset, o.baked);
+  add_output_option(cmd, o.out, "Output folder (created)");
+  cmd->add_flag("--no-plot", o.no_plot, "Write no PNG");
+}
+
+void add_rve_size_options(CLI::App* cmd, pipeline::RveSizeOptions& o) {
+  add_pattern_argument(cmd, o.pattern, "Pattern file (.pyp)")->check(existing_regular_file());
+  cmd->add_option("--tiles", o.tiles, "Patch sizes n (n x n tiles; comma-separated or repeated)")->delimiter(',')->check(CLI::Range(1, 8))->capture_default_str();
+  add_direction_option(cmd, o.direction)->capture_default_str();
+  add_output_option(cmd, o.out, "Output folder (created)");
+}
+
+}  // namespace
+
+void register_study_accuracy(CLI::App& app) {
+  CLI::App* study = study_group(app, "Studies that reproduce the supplement's tables (docs/accuracy.md)");
+  add_study<pipeline::Table5Options>(study, "table5", add_table5_options, pipeline::run_study_table5);
+  add_study<pipeline::BakeResolutionOptions>(study, "bake-resolution", add_bake_resolution_options,
+                                             pipeline::run_study_bake_resolution);
+  AccuracyOptionHelp width_help;
+  width_help.size.clear();  // the study sets each strip's size (--widths, --length)
+  add_study<pipeline::StripWidthOptions>(study, "strip-width", add_strip_width_options, pipeline::run_study_strip_width,
+                                         width_help);
+  add_study<pipeline::RveSizeOptions>(study, "rve-size", add_rve_size_options, pipeline::run_study_rve_size);
+}
+
+}  // namespace yarnhom::tools

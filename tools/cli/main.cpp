@@ -1,0 +1,29 @@
+// yarnhom: yarn-level cloth to neural continuum material models. One subcommand per
+// tools/cmd_*.cpp file; each registers itself here.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "tools/cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "yarnhom: turns yarn-level cloth into fast, stable continuum material models with neural "
+      "networks (Feng et al. 2024, 'Neural-Assisted Homogenization of Yarn-Level Cloth').\n"
+      "Pipeline: produce (yarn RVE data) -> train-all (one MLP per energy term) -> bake "
+      "(Hermite tables) -> eval."};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Print the help of every subcommand");
+  for (auto reg : yarnhom::tools::command_registry()) reg(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const yarnhom::tools::ExitCode& e) {
+    return e.code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "yarnhom: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
