@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+
+#include "numerics/newton.hpp"
 
 namespace yarnhom::sim {
 
@@ -31,20 +34,24 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     const Eigen::VectorXd g = gather_free(D, grad);
     auto t1 = Clock::now();
     st.t_assemble += seconds(t0, t1);
-    // Factorize; on failure shift the diagonal by a growing multiple of its mean magnitude.
+    // Factorize; on failure shift the diagonal by a growing multiple of its mean magnitude
+    // (numerics/newton.hpp's schedule: 1e-8, then x10, 12 shifts at most).
     double mean_diag = 0;
     for (int k = 0; k < 3 * F; ++k) mean_diag += H.valuePtr()[pat.diag_slots[k]];
     mean_diag = std::max(std::abs(mean_diag) / (3 * F), 1e-300);
-    double shift = 0;
-    bool ok = solver.factorize(H);
-    for (int tries = 0; !ok && tries < 12; ++tries) {
-      const double add = (shift == 0 ? 1e-8 : 9 * shift) * mean_diag;
-      shift = shift == 0 ? 1e-8 : 10 * shift;
-      for (int k = 0; k < 3 * F; ++k) H.valuePtr()[pat.diag_slots[k]] += add;
-      ok = solver.factorize(H);
-    }
-    if (shift > 0) ++st.shifted;
-    if (!ok) break;
+    double applied = 0;  // the shift already on H's diagonal
+    const numerics::ShiftResult shift = numerics::shifted_factorization(
+        0.0,
+        [&](double mu) {
+          if (mu > applied) {
+            for (int k = 0; k < 3 * F; ++k) H.valuePtr()[pat.diag_slots[k]] += (mu - applied) * mean_diag;
+            applied = mu;
+          }
+          return solver.factorize(H);
+        },
+        {1e-8, 10, 13, 0.0});
+    if (shift.mu > 0) ++st.shifted;
+    if (!shift.ok) break;
     const Eigen::VectorXd pf = -solver.solve(g);
     auto t2 = Clock::now();
     st.t_solve += seconds(t1, t2);
@@ -57,47 +64,45 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     }
     Eigen::VectorXd p = Eigen::VectorXd::Zero(x.size());
     scatter_free(D, pf, p);
-    double alpha = max_feasible_step(P, x, p);
     const double slope = g.dot(pf);  // < 0 for a positive-definite solve
-    Eigen::VectorXd xn;
-    double En = 0;
-    bool accepted = false;
-    for (int ls = 0; ls < 40; ++ls) {
-      xn = x + alpha * p;
-      En = potential_value(P, D, S, xn);
-      if (std::isfinite(En) && En <= E + opt.armijo * alpha * slope) {
-        accepted = true;
-        break;
-      }
-      alpha *= 0.5;
-      ++st.backtracks;
-    }
+    // Armijo backtracking from the collider-limited step (CCD as a step filter).
+    Eigen::VectorXd xn, xt;
+    const numerics::LineSearchResult ls = numerics::armijo_backtracking(
+        E, slope, max_feasible_step(P, x, p),
+        [&](double alpha) {
+          xn = x + alpha * p;
+          return potential_value(P, D, S, xn);
+        },
+        {opt.armijo, 40, 0.0});
+    st.backtracks += ls.trials - (ls.accepted ? 1 : 0);
+    const double alpha = ls.alpha;
+    double En = ls.energy;
     // A full step that decreased the energy more than its quadratic model predicts (En - E <
     // slope/2 for a Newton step) crossed a region of negative curvature, which the projected
     // Hessian flattened to zero: the step is too short there. Extend it while the energy keeps
     // falling (up to 16 steps, within the collider bound), instead of creeping.
-    if (accepted && alpha == 1.0 && En - E < 0.5 * slope) {
-      const double amax = 16 * max_feasible_step(P, x, 16 * p);  // multiple of p allowed from x
-      double a = 1.0;
-      while (2 * a <= std::min(16.0, amax)) {
-        const Eigen::VectorXd xt = x + (2 * a) * p;
-        const double Et = potential_value(P, D, S, xt);
-        if (!(std::isfinite(Et) && Et < En)) break;
-        a *= 2;
-        xn = xt;
-        En = Et;
-        ++st.extensions;
-      }
+    if (ls.accepted && alpha == 1.0 && En - E < 0.5 * slope) {
+      const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p));  // multiple of p allowed from x
+      const numerics::Extension ext = numerics::extend_step(
+          1.0, En, slope, 4, 0.0,
+          [&](double a) {
+            if (a > amax) return std::numeric_limits<double>::infinity();
+            xt = x + a * p;
+            return potential_value(P, D, S, xt);
+          },
+          [&](double) { xn = xt; });
+      En = ext.energy;
+      st.extensions += ext.doublings;
     }
     st.t_line_search += seconds(t2, Clock::now());
-    if (!accepted) {
+    if (!ls.accepted) {
       // No decrease at rounding level: the step is below what the energy resolves.
       st.converged = alpha * st.step_norm < opt.tol_step || std::abs(slope) < 1e-14 * (1 + std::abs(E));
       break;
     }
     if (std::getenv("YARNHOM_SIM_DEBUG"))
       std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g\n", it, E, En,
-                   st.step_norm, alpha, slope, shift);
+                   st.step_norm, alpha, slope, shift.mu);
     x = xn;
     st.energy = En;
   }

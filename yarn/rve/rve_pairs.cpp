@@ -2,8 +2,8 @@
 // contact pairs of a configuration, periodic images included.
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
+#include "numerics/hash_grid.hpp"
 #include "yarn/rve/rve.hpp"
 
 namespace yarnhom::yarn {
@@ -41,22 +41,10 @@ std::vector<RveProblem::Pair> RveProblem::contact_pairs(const Strain& s, const R
     cell = std::max(cell, (base[v].hi - base[v].lo).maxCoeff() + reach);
   }
   // Hash grid of the base tile's segments, cells at least one segment + reach wide, so each
-  // box (inflated by reach) touches at most 2 cells per axis.
-  auto cell_of = [&](double x) { return static_cast<int64_t>(std::floor(x / cell)); };
-  auto key = [](int64_t i, int64_t j, int64_t k) {
-    return ((i & 0x1FFFFF) << 42) | ((j & 0x1FFFFF) << 21) | (k & 0x1FFFFF);
-  };
-  std::unordered_map<int64_t, std::vector<int>> grid;
-  grid.reserve(4 * n);
-  for (int v = 0; v < n; ++v) {
-    const Eigen::Vector3d lo = base[v].lo.array() - reach, hi = base[v].hi.array() + reach;
-    for (int64_t i = cell_of(lo[0]); i <= cell_of(hi[0]); ++i)
-      for (int64_t j = cell_of(lo[1]); j <= cell_of(hi[1]); ++j)
-        for (int64_t k = cell_of(lo[2]); k <= cell_of(hi[2]); ++k) grid[key(i, j, k)].push_back(v);
-  }
+  // box (inflated by reach) touches at most 2 cells per axis (numerics/hash_grid.hpp).
+  numerics::SpatialHash grid(cell, size_t(n));
+  for (int v = 0; v < n; ++v) grid.insert(v, base[v].lo.array() - reach, base[v].hi.array() + reach);
   std::vector<Pair> pairs;
-  std::vector<int> seen(n, -1);
-  int stamp = 0;
   const int K = 2;  // images up to two tiles away (a small tile under compression)
   for (int ox = -K; ox <= K; ++ox)
     for (int oy = -K; oy <= K; ++oy) {
@@ -73,24 +61,15 @@ std::vector<RveProblem::Pair> RveProblem::contact_pairs(const Strain& s, const R
         continue;
       for (int w = 0; w < n; ++w) {
         const Box& bw = boxes[w];
-        ++stamp;
-        for (int64_t i = cell_of(bw.lo[0]); i <= cell_of(bw.hi[0]); ++i)
-          for (int64_t j = cell_of(bw.lo[1]); j <= cell_of(bw.hi[1]); ++j)
-            for (int64_t k = cell_of(bw.lo[2]); k <= cell_of(bw.hi[2]); ++k) {
-              auto it = grid.find(key(i, j, k));
-              if (it == grid.end()) continue;
-              for (int v : it->second) {
-                if (seen[v] == stamp) continue;
-                seen[v] = stamp;
-                // Each unordered pair once: (v, w at o) and (w, v at -o) are the same.
-                if (v > w || (v == w && (ox < 0 || (ox == 0 && oy <= 0)))) continue;
-                if (excluded(v, w, o)) continue;
-                const Box& bv = base[v];
-                if (((bv.lo.array() - reach) > bw.hi.array()).any() || ((bv.hi.array() + reach) < bw.lo.array()).any())
-                  continue;
-                pairs.push_back({v, w, o});
-              }
-            }
+        grid.query(bw.lo, bw.hi, [&](int v) {
+          // Each unordered pair once: (v, w at o) and (w, v at -o) are the same.
+          if (v > w || (v == w && (ox < 0 || (ox == 0 && oy <= 0)))) return;
+          if (excluded(v, w, o)) return;
+          const Box& bv = base[v];
+          if (((bv.lo.array() - reach) > bw.hi.array()).any() || ((bv.hi.array() + reach) < bw.lo.array()).any())
+            return;
+          pairs.push_back({v, w, o});
+        });
       }
     }
   return pairs;

@@ -8,6 +8,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
+#include "io/obj_write.hpp"
 #include "yarn/rod/certificate_io.hpp"
 #include "yarn/rod/frames.hpp"
 
@@ -140,55 +141,46 @@ void write_obj(const std::string& path, const RveProblem& rve, const Strain& s,
                const RveState& st, int sides) {
   const Topology& topo = rve.topo();
   const double r = rve.radius();
-  AtomicOutput out(path);
-  {
-    std::ofstream f(out.temp_path());
-    if (!f) throw FileError(path, "", "cannot open for writing");
-    f << "# yarnhom rve: pattern " << rve.pattern().name << ", one tube per yarn over one period\n";
-    char buf[160];
-    long next_index = 1;
-    for (size_t y = 0; y < topo.yarns.size(); ++y) {
-      // The yarn's centreline through the images, closed on the first vertex's image.
-      std::vector<Eigen::Vector3d> c;
-      Eigen::Vector2i o = Eigen::Vector2i::Zero();
-      for (int v : topo.yarns[y]) {
-        c.push_back(rve.position(s, st, v, o));
-        o += topo.offset[v];
-      }
-      c.push_back(rve.position(s, st, topo.yarns[y][0], o));
-      const int m = static_cast<int>(c.size());
-      f << "o yarn" << y << "\n";
-      // Ring frames by parallel transport along the centreline: no twisting of the mesh.
-      Eigen::Vector3d t0 = (c[1] - c[0]).normalized();
-      Eigen::Vector3d a = std::abs(t0[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-      Eigen::Vector3d d = (a - a.dot(t0) * t0).normalized();
-      Eigen::Vector3d tprev = t0;
-      for (int k = 0; k < m; ++k) {
-        const Eigen::Vector3d t = k == 0 ? t0 : k + 1 < m ? (c[k + 1] - c[k - 1]).normalized() : (c[k] - c[k - 1]).normalized();
-        const V3<double> dd = transport_same(V3<double>(tprev), V3<double>(t), V3<double>(d));
-        d = Eigen::Vector3d(dd.x, dd.y, dd.z);
-        d = (d - d.dot(t) * t).normalized();
-        tprev = t;
-        const Eigen::Vector3d e = t.cross(d);
-        for (int j = 0; j < sides; ++j) {
-          const double phi = 2 * M_PI * j / sides;
-          const Eigen::Vector3d p = c[k] + r * (std::cos(phi) * d + std::sin(phi) * e);
-          std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
-          f << buf;
-        }
-      }
-      for (int k = 0; k + 1 < m; ++k)
-        for (int j = 0; j < sides; ++j) {
-          const long a0 = next_index + k * sides + j, a1 = next_index + k * sides + (j + 1) % sides;
-          const long b0 = a0 + sides, b1 = a1 + sides;
-          std::snprintf(buf, sizeof buf, "f %ld %ld %ld %ld\n", a0, a1, b1, b0);
-          f << buf;
-        }
-      next_index += long(m) * sides;
+  ObjWriter f(path);
+  f.comment("yarnhom rve: pattern " + rve.pattern().name + ", one tube per yarn over one period");
+  long next_index = 1;
+  for (size_t y = 0; y < topo.yarns.size(); ++y) {
+    // The yarn's centreline through the images, closed on the first vertex's image.
+    std::vector<Eigen::Vector3d> c;
+    Eigen::Vector2i o = Eigen::Vector2i::Zero();
+    for (int v : topo.yarns[y]) {
+      c.push_back(rve.position(s, st, v, o));
+      o += topo.offset[v];
     }
-    if (!f) throw FileError(path, "", "write failed");
+    c.push_back(rve.position(s, st, topo.yarns[y][0], o));
+    const int m = static_cast<int>(c.size());
+    f.object("yarn" + std::to_string(y));
+    // Ring frames by parallel transport along the centreline: no twisting of the mesh.
+    Eigen::Vector3d t0 = (c[1] - c[0]).normalized();
+    Eigen::Vector3d a = std::abs(t0[2]) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+    Eigen::Vector3d d = (a - a.dot(t0) * t0).normalized();
+    Eigen::Vector3d tprev = t0;
+    for (int k = 0; k < m; ++k) {
+      const Eigen::Vector3d t = k == 0 ? t0 : k + 1 < m ? (c[k + 1] - c[k - 1]).normalized() : (c[k] - c[k - 1]).normalized();
+      const V3<double> dd = transport_same(V3<double>(tprev), V3<double>(t), V3<double>(d));
+      d = Eigen::Vector3d(dd.x, dd.y, dd.z);
+      d = (d - d.dot(t) * t).normalized();
+      tprev = t;
+      const Eigen::Vector3d e = t.cross(d);
+      for (int j = 0; j < sides; ++j) {
+        const double phi = 2 * M_PI * j / sides;
+        const Eigen::Vector3d p = c[k] + r * (std::cos(phi) * d + std::sin(phi) * e);
+        f.vertex(p[0], p[1], p[2]);
+      }
+    }
+    for (int k = 0; k + 1 < m; ++k)
+      for (int j = 0; j < sides; ++j) {
+        const long a0 = next_index + k * sides + j, a1 = next_index + k * sides + (j + 1) % sides;
+        f.face({a0, a1, a1 + sides, a0 + sides});
+      }
+    next_index += long(m) * sides;
   }
-  out.commit();
+  f.commit();
 }
 
 }  // namespace yarnhom::yarn

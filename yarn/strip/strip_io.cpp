@@ -3,65 +3,39 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <fstream>
-#include <sstream>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
+#include "io/obj_read.hpp"
+#include "io/obj_write.hpp"
 #include "yarn/rod/certificate_io.hpp"
 
 namespace yarnhom::yarn {
 
 void write_centrelines(const std::string& path, const Strip& s, const std::vector<Eigen::Vector3d>& x) {
-  AtomicOutput out(path);
-  {
-    std::FILE* f = std::fopen(out.temp_path().c_str(), "w");
-    if (!f) throw FileError(path, "", "cannot open for writing");
-    std::fprintf(f, "# yarnhom strip %s: %d vertices, one yarn (m)\n", s.name.c_str(), s.size());
-    for (const auto& p : x) std::fprintf(f, "v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
-    // Runs of edges of one kind.
-    const int ne = s.num_edges();
-    for (int a = 0; a < ne;) {
-      int b = a;
-      while (b < ne && s.connector_edge[b] == s.connector_edge[a]) ++b;
-      std::fprintf(f, "g %s\nl", s.connector_edge[a] ? "boundary" : "yarn");
-      for (int v = a; v <= b; ++v) std::fprintf(f, " %d", (v == s.size() ? 0 : v) + 1);
-      std::fprintf(f, "\n");
-      a = b;
-    }
-    if (std::fclose(f) != 0) throw FileError(path, "", "write failed");
+  ObjWriter w(path);
+  w.comment("yarnhom strip " + s.name + ": " + std::to_string(s.size()) + " vertices, one yarn (m)");
+  for (const auto& p : x) w.vertex(p[0], p[1], p[2]);
+  // Runs of edges of one kind.
+  const int ne = s.num_edges();
+  for (int a = 0; a < ne;) {
+    int b = a;
+    while (b < ne && s.connector_edge[b] == s.connector_edge[a]) ++b;
+    w.group(s.connector_edge[a] ? "boundary" : "yarn");
+    std::vector<long> line;
+    for (int v = a; v <= b; ++v) line.push_back((v == s.size() ? 0 : v) + 1);
+    w.polyline(line);
+    a = b;
   }
-  out.commit();
+  w.commit();
 }
 
 Polylines read_polylines(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw FileError(path, "", "cannot open for reading");
+  const ObjGeometry g = read_obj_geometry(path);
   Polylines P;
-  std::string line;
-  int no = 0;
-  while (std::getline(in, line)) {
-    ++no;
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      Eigen::Vector3d p;
-      if (!(ls >> p[0] >> p[1] >> p[2])) throw FileError(path, "line " + std::to_string(no), "expected 'v x y z'");
-      P.v.push_back(p);
-    } else if (tag == "l") {
-      std::vector<int> l;
-      int i;
-      while (ls >> i) {
-        if (i < 1 || i > static_cast<int>(P.v.size()))
-          throw FileError(path, "line " + std::to_string(no), "vertex index " + std::to_string(i) + " out of range");
-        l.push_back(i - 1);
-      }
-      if (l.size() < 2) throw FileError(path, "line " + std::to_string(no), "a polyline needs 2 vertices");
-      P.lines.push_back(std::move(l));
-    }
-  }
+  for (Eigen::Index i = 0; i < g.V.cols(); ++i) P.v.push_back(g.V.col(i));
+  P.lines = g.lines;
   return P;
 }
 

@@ -15,7 +15,6 @@
 
 #include "tests/common/yarn_support.hpp"
 #include "yarn/rod/generate.hpp"
-#include "numerics/hash_grid.hpp"
 #include "yarn/strip/strip_generate.hpp"
 #include "yarn/strip/strip_io.hpp"
 #include "yarn/strip/strip_stretch.hpp"
@@ -63,23 +62,6 @@ std::string temp_dir(const std::string& name) {
 }
 
 }  // namespace
-
-TEST(HashGrid, FindsExactlyTheOverlappingPairs) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> U(0, 1), S(0.01, 0.15);
-  std::vector<Box3> boxes(400);
-  for (auto& b : boxes) {
-    b.lo = Eigen::Vector3d(U(rng), U(rng), 0.2 * U(rng));
-    b.hi = b.lo + Eigen::Vector3d(S(rng), S(rng), S(rng));
-  }
-  boxes[7] = boxes[3];  // identical boxes overlap
-  std::vector<std::pair<int, int>> brute;
-  for (int i = 0; i < int(boxes.size()); ++i)
-    for (int j = i + 1; j < int(boxes.size()); ++j)
-      if (boxes[i].overlaps(boxes[j])) brute.emplace_back(i, j);
-  for (double cell : {0.0, 0.05, 0.3}) EXPECT_EQ(overlapping_pairs(boxes, cell), brute) << "cell " << cell;
-  EXPECT_GT(brute.size(), 100u);
-}
 
 TEST(StripContact, IsTheRvesKernelPlusBarrierAndItsFilterStopsACrossing) {
   // Segment b moves straight through segment a: CCD stops the move before d_min, and the
