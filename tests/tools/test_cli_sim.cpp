@@ -113,7 +113,7 @@ TEST(CliSim, StretchReportsForcePerClampWidthAsCsvAndPng) {
     EXPECT_TRUE(fs::exists(d + "/out/stretch.png"));
     EXPECT_TRUE(fs::exists(d + "/out/renders/frame_0014.png"));
   }
-  // What `yarnhom accuracy` reads (tools/cli/cmd_accuracy.cpp): with --frames N, a `stretch` and a
+  // What `yarnhom accuracy` reads (pipeline/accuracy_run.cpp): with --frames N, a `stretch` and a
   // `force_per_width_N_per_m` column with the ratios 1 + 0.7 k/N, and exactly N + 1 OBJ files
   // in frames/, one per row, in name order.
   r = run("sim stretch -o " + d + "/few --material " + d + "/mat.json --resolution 2 --frames 7 --render none -q");

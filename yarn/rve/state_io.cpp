@@ -19,9 +19,7 @@ void write_state(const std::string& path, const RveProblem& rve, const Strain& s
   const int n = rve.pattern().size();
   AtomicOutput out(path);
   {
-    h5::Node root = h5::create_file(out.temp_path());
-    root.set_attr("format", kStateFormat);
-    root.set_attr("version", 1);
+    h5::Node root = h5::create_file(out.temp_path(), kStateFormat, 1);
     root.set_attr("pattern", rve.pattern().name);
     root.set_attr("units", "SI");
     root.set_attr("strain", std::vector<double>(s.data(), s.data() + 6));

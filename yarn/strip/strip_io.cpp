@@ -43,9 +43,7 @@ void write_step(const std::string& path, const Strip& s, const StretchStep& r, c
   const int n = s.size(), ne = s.num_edges();
   AtomicOutput out(path);
   {
-    h5::Node root = h5::create_file(out.temp_path());
-    root.set_attr("format", kStripStepFormat);
-    root.set_attr("version", 1);
+    h5::Node root = h5::create_file(out.temp_path(), kStripStepFormat, 1);
     root.set_attr("units", "SI");
     root.set_attr("strip", s.name);
     root.set_attr("stretch", r.stretch);
