@@ -20,6 +20,7 @@
 #include "core/atomic_file.hpp"
 #include "core/dataset.hpp"
 #include "tests/common/run_cli.hpp"
+#include "tests/common/process_tree.hpp"
 #include "tests/common/small_files.hpp"
 
 namespace fs = std::filesystem;
@@ -186,25 +187,8 @@ TEST(Outputs, StaleTemporariesAreRemovedWithALine) {
 
 namespace {
 
-// Direct children of pid (Linux /proc; every thread's list).
-std::vector<pid_t> children_of(pid_t pid) {
-  std::vector<pid_t> out;
-  std::error_code ec;
-  for (auto& t : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
-    std::ifstream in(t.path() / "children");
-    for (pid_t c; in >> c;) out.push_back(c);
-  }
-  return out;
-}
-
-// Running (not a zombie, not gone).
-bool alive(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string line;
-  if (!std::getline(in, line)) return false;
-  const auto close = line.rfind(')');
-  return close != std::string::npos && close + 2 < line.size() && line[close + 2] != 'Z';
-}
+using yarnhom::test::alive;
+using yarnhom::test::children_of;
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 
 #include "core/model.hpp"
 #include "tests/common/h5_edit.hpp"
+#include "tests/common/pattern_text.hpp"
 #include "tests/common/run_cli.hpp"
 #include "tests/common/small_files.hpp"
 
@@ -42,20 +43,7 @@ void expect_refused(const std::string& args, const std::vector<std::string>& nee
 
 // The small pattern with one line of a block replaced.
 std::string mutate_pattern(const std::string& text, const std::string& block, int row, const std::string& line) {
-  std::istringstream in(text);
-  std::string out, l, cur;
-  int k = -1;
-  while (std::getline(in, l)) {
-    if (!l.empty() && l[0] == '*') {
-      std::istringstream hs(l.substr(1));
-      hs >> cur;
-      k = -1;
-    } else if (cur == block && !l.empty()) {
-      if (++k == row) l = line;
-    }
-    out += l + "\n";
-  }
-  return out;
+  return yarnhom::test::edit_pattern_row(text, block, row, false, [&](const std::string&) { return line; });
 }
 
 std::string field_replaced(const std::string& text, const std::string& block, int row, int field, const std::string& v) {

@@ -41,6 +41,8 @@
 #include <vector>
 
 #include "core/dataset.hpp"
+#include "tests/common/pattern_text.hpp"
+#include "tests/common/process_tree.hpp"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -343,25 +345,15 @@ void rename(const std::string& file, const std::string& from, const std::string&
 }  // namespace h5
 
 std::string replace_field(const std::string& text, const std::string& block, int row, int field, const std::string& v) {
-  std::istringstream in(text);
-  std::string out, l, cur;
-  int k = -1;
-  while (std::getline(in, l)) {
-    if (!l.empty() && l[0] == '*') {
-      std::istringstream hs(l.substr(1));
-      hs >> cur;
-      k = -1;
-    } else if (cur == block && !l.empty() && l[0] != '#' && ++k == row) {
-      std::istringstream ls(l);
-      std::vector<std::string> f;
-      for (std::string x; ls >> x;) f.push_back(x);
-      if (field < int(f.size())) f[field] = v;
-      l.clear();
-      for (auto& x : f) l += (l.empty() ? "" : " ") + x;
-    }
-    out += l + "\n";
-  }
-  return out;
+  return yarnhom::test::edit_pattern_row(text, block, row, true, [&](const std::string& line) {
+    std::istringstream ls(line);
+    std::vector<std::string> f;
+    for (std::string x; ls >> x;) f.push_back(x);
+    if (field < int(f.size())) f[field] = v;
+    std::string l;
+    for (auto& x : f) l += (l.empty() ? "" : " ") + x;
+    return l;
+  });
 }
 
 void campaign_refusals(const fs::path& work, const std::string& pattern) {
@@ -458,29 +450,8 @@ void campaign_refusals(const fs::path& work, const std::string& pattern) {
 }
 
 // ---------------- D. killed pipeline ----------------
-std::vector<pid_t> descendants(pid_t pid) {
-  std::vector<pid_t> out, frontier = {pid};
-  while (!frontier.empty()) {
-    const pid_t p = frontier.back();
-    frontier.pop_back();
-    std::error_code ec;
-    for (auto& t : fs::directory_iterator("/proc/" + std::to_string(p) + "/task", ec)) {
-      std::ifstream in(t.path() / "children");
-      for (pid_t c; in >> c;) {
-        out.push_back(c);
-        frontier.push_back(c);
-      }
-    }
-  }
-  return out;
-}
-bool alive(pid_t pid) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-  std::string line;
-  if (!std::getline(in, line)) return false;
-  const auto close = line.rfind(')');
-  return close != std::string::npos && close + 2 < line.size() && line[close + 2] != 'Z';
-}
+using yarnhom::test::alive;
+using yarnhom::test::descendants;
 
 void campaign_pipeline(const fs::path& work, int kills, std::mt19937_64& rng) {
   const fs::path dir = work / "pipeline";
