@@ -4,6 +4,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace yarnhom::test {
 
@@ -24,6 +25,18 @@ inline std::string edit_pattern_row(const std::string& text, const std::string& 
     }
     out += l + "\n";
   }
+  return out;
+}
+
+// The line's whitespace-separated fields with field `field` (0-based) replaced by v, joined by
+// single spaces (a field past the end: the line's fields unchanged).
+inline std::string with_field(const std::string& line, int field, const std::string& v) {
+  std::istringstream ls(line);
+  std::vector<std::string> f;
+  for (std::string x; ls >> x;) f.push_back(x);
+  if (field < int(f.size())) f[field] = v;
+  std::string out;
+  for (auto& x : f) out += (out.empty() ? "" : " ") + x;
   return out;
 }
 

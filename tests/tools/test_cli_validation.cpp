@@ -41,31 +41,9 @@ void expect_refused(const std::string& args, const std::vector<std::string>& nee
   EXPECT_LT(secs, 5.0) << args;
 }
 
-// The small pattern with one line of a block replaced.
-std::string mutate_pattern(const std::string& text, const std::string& block, int row, const std::string& line) {
-  return yarnhom::test::edit_pattern_row(text, block, row, false, [&](const std::string&) { return line; });
-}
-
 std::string field_replaced(const std::string& text, const std::string& block, int row, int field, const std::string& v) {
-  std::istringstream in(text);
-  std::string l, cur;
-  int k = -1;
-  while (std::getline(in, l)) {
-    if (!l.empty() && l[0] == '*') {
-      std::istringstream hs(l.substr(1));
-      hs >> cur;
-      k = -1;
-    } else if (cur == block && !l.empty() && ++k == row) {
-      std::istringstream ls(l);
-      std::vector<std::string> f;
-      for (std::string x; ls >> x;) f.push_back(x);
-      f[field] = v;
-      std::string nl;
-      for (auto& x : f) nl += (nl.empty() ? "" : " ") + x;
-      return mutate_pattern(text, block, row, nl);
-    }
-  }
-  return text;
+  return yarnhom::test::edit_pattern_row(text, block, row, false,
+                                         [&](const std::string& line) { return yarnhom::test::with_field(line, field, v); });
 }
 
 }  // namespace

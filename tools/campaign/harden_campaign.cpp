@@ -345,15 +345,8 @@ void rename(const std::string& file, const std::string& from, const std::string&
 }  // namespace h5
 
 std::string replace_field(const std::string& text, const std::string& block, int row, int field, const std::string& v) {
-  return yarnhom::test::edit_pattern_row(text, block, row, true, [&](const std::string& line) {
-    std::istringstream ls(line);
-    std::vector<std::string> f;
-    for (std::string x; ls >> x;) f.push_back(x);
-    if (field < int(f.size())) f[field] = v;
-    std::string l;
-    for (auto& x : f) l += (l.empty() ? "" : " ") + x;
-    return l;
-  });
+  return yarnhom::test::edit_pattern_row(text, block, row, true,
+                                         [&](const std::string& line) { return yarnhom::test::with_field(line, field, v); });
 }
 
 void campaign_refusals(const fs::path& work, const std::string& pattern) {
