@@ -43,7 +43,9 @@ NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const Hess
     S.friction_eps = eps;
   }
   NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile);
-  for (int k = 0; friction && k < P.friction_updates && x.allFinite(); ++k) {
+  // Lag updates are more solves: the one-solve step (max_iterations 1) keeps the step-start lag.
+  const int updates = opt.max_iterations == 1 ? 0 : P.friction_updates;
+  for (int k = 0; friction && k < updates && x.allFinite(); ++k) {
     S.friction = friction_contacts(P, D.free_index, x, x_start);
     accumulate(st, newton_minimize(P, D, pat, solver, S, x, opt, profile));
   }
@@ -74,6 +76,18 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     if (D.free_index[i] < 0) dx.segment<3>(3 * i).setZero();
   Eigen::VectorXd xn = feasible_prediction(P, x, dx);
   apply_targets(D, target, xn);
+  // Newton starts from whichever of the prediction and x_n has the lower incremental potential:
+  // the prediction may land where the energy is huge or infinite (a triangle carried past the
+  // collapse guard's limit, material/collapse_guard.hpp), and a step that only decreases Phi from
+  // there bounds nothing. From x_n, Phi(x_{n+1}) <= Phi(x_n) = T_n + E_n (kinetic plus potential
+  // energy; the damping terms vanish there), so no step, converged or not, creates energy
+  // beyond E_{n+1} <= T_n + E_n.
+  {
+    Eigen::VectorXd xs = x;
+    apply_targets(D, target, xs);
+    const double phi_pred = potential_value(P, D, S, xn), phi_start = potential_value(P, D, S, xs);
+    if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) xn = xs;
+  }
   StepStats out;
   out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
   if (hinges) *hinges = hinge_angles(P.mesh, xn, &S.theta_ref);
@@ -85,7 +99,17 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
 
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          bool profile, std::vector<double>* hinges) {
+                          const NewtonSettings& opt, bool profile, std::vector<double>* hinges) {
+  NewtonSettings one = opt;
+  one.max_iterations = 1;
+  StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges);
+  st.newton.converged = st.finite;  // one solve by design: nothing to converge
+  return st;
+}
+
+StepStats baraff_witkin_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                             Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                             bool profile, std::vector<double>* hinges) {
   StepStats out;
   auto t0 = Clock::now();
   // Prescribed vertices move first; their velocity over the step is known.

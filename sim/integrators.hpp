@@ -3,9 +3,17 @@
 //
 // implicit_euler_step: x_{n+1} = argmin Phi (sim/potential.hpp) by Newton with line search;
 //   v_{n+1} = (x_{n+1} - x_n)/h. Prescribed vertices are placed at their targets for t_{n+1}.
-//   The initial guess is x_n + h v_n, shortened where it would enter a collider.
-// linearized_step: ARCSim-HYLC's integrator (Baraff and Witkin 1998): one linear solve, no
-//   line search,
+//   Newton starts from the inertial prediction x_n + h v_n (a vertex whose move would enter a
+//   collider stays), or from x_n where that has the lower Phi (sim/integrators.cpp says why).
+// linearized_step: the one-solve step (`--integrator linearized`): the same step with exactly one
+//   Newton iteration -- one assembly, one factorization, one solve -- then the collider-filtered
+//   Armijo line search on Phi (energy evaluations only). It is implicit Euler linearized at the
+//   predicted state, and the line search makes it stable: Phi(x_{n+1}) <= Phi(start) <= T_n + E_n,
+//   so no step creates energy, where the unguarded linear step (below) overshoots a soft knit's
+//   curl or shear into collapse at dt = 1/30 s. Colliders and friction act as in the Newton step
+//   (barrier, lagged friction).
+// baraff_witkin_step: ARCSim-HYLC's integrator (Baraff and Witkin 1998), kept for comparison
+//   with it (`--integrator baraff-witkin`): one linear solve, no line search,
 //     (M (1 + h alpha) + h (h + beta) K + h C_air) dv = h (f - alpha M v - (h + beta) K v - C_air v),
 //   v += dv, x += h v, with f = -grad(E_shell + gravity) and K the projected elastic Hessian at
 //   x_n (prescribed vertices moved to their targets first, so a handle's motion enters through
@@ -19,7 +27,7 @@
 // add the lagged friction potential, with the normal forces and tangent bases taken at the
 // step's start (statics: friction_start, the previous load step's equilibrium, else x as given)
 // and P.friction_updates re-solves with them taken at the solution (IPC's lag update).
-// linearized_step applies no friction: it has no barrier, hence no normal force to lag (its
+// baraff_witkin_step applies no friction: it has no barrier, hence no normal force to lag (its
 // collider response is a projection).
 #include "sim/newton.hpp"
 
@@ -30,7 +38,7 @@ namespace yarnhom::sim {
 struct StepStats {
   NewtonStats newton;          // Newton integrator / static solve
   bool finite = true;          // every position and velocity finite after the step
-  int projected_vertices = 0;  // linearized step: collider projections
+  int projected_vertices = 0;  // Baraff-Witkin step: collider projections
 };
 
 // x, v: 3n. target: 3n positions of the prescribed vertices at the end of the step (other
@@ -41,9 +49,14 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
                               const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr);
 
+// opt: as for the Newton step; its max_iterations is ignored (one).
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          bool profile = false, std::vector<double>* hinges = nullptr);
+                          const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr);
+
+StepStats baraff_witkin_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
+                             Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
+                             bool profile = false, std::vector<double>* hinges = nullptr);
 
 StepStats static_solve(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                        Eigen::VectorXd& x, const Eigen::VectorXd& target, const NewtonSettings& opt,

@@ -5,18 +5,49 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <stdexcept>
 
 #include "numerics/newton.hpp"
+#include "sim/hinge_angles.hpp"
 
 namespace yarnhom::sim {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+// The step's size in the chosen norm (sim/newton.hpp); pf over the free unknowns.
+double step_size(const Problem& P, const DofMap& D, const Eigen::VectorXd& pf, StepNorm norm) {
+  if (norm != StepNorm::MassRms || P.mass.size() == 0) return pf.cwiseAbs().maxCoeff();
+  double mass = 0, sum = 0;
+  for (int i = 0; i < D.num_free(); ++i) {
+    const double m = P.mass[D.free_vertices[i]];
+    mass += m;
+    sum += m * pf.segment<3>(3 * i).squaredNorm();
+  }
+  if (!(mass > 0)) return pf.cwiseAbs().maxCoeff();
+  return std::sqrt(sum / mass);
+}
 }  // namespace
 
+StepNorm parse_step_norm(const std::string& name) {
+  if (name == "auto") return StepNorm::Auto;
+  if (name == "max") return StepNorm::Max;
+  if (name == "rms") return StepNorm::MassRms;
+  throw std::invalid_argument("tolerance norm '" + name + "': expected auto, max or rms");
+}
+
+const char* step_norm_name(StepNorm n) {
+  switch (n) {
+    case StepNorm::Auto: return "auto";
+    case StepNorm::Max: return "max";
+    case StepNorm::MassRms: return "rms";
+  }
+  return "?";
+}
+
 NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
-                            const StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt, bool profile) {
+                            StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt, bool profile) {
   NewtonStats st;
   Eigen::SparseMatrix<double> H = pat.matrix;
   Eigen::VectorXd grad(x.size());
@@ -56,7 +87,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     auto t2 = Clock::now();
     st.t_solve += seconds(t1, t2);
     ++st.iterations;
-    st.step_norm = pf.cwiseAbs().maxCoeff();
+    st.step_norm = step_size(P, D, pf, opt.norm);
     if (!std::isfinite(st.step_norm)) break;
     if (st.step_norm < opt.tol_step) {
       st.converged = true;
@@ -101,10 +132,14 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       break;
     }
     if (std::getenv("YARNHOM_SIM_DEBUG"))
-      std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g\n", it, E, En,
-                   st.step_norm, alpha, slope, shift.mu);
+      std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g, ccd %.3g\n", it, E, En,
+                   st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p));
     x = xn;
     st.energy = En;
+    // The hinges' branches follow the iterate: a step that turns a hinge by more than pi in all
+    // (a soft knit's edge curling within one time step) is then still continuous, as long as no
+    // single Newton update turns it by pi (sim/hinge_angles.hpp).
+    if (!S.theta_ref.empty()) S.theta_ref = hinge_angles(P.mesh, x, &S.theta_ref);
   }
   return st;
 }

@@ -9,6 +9,8 @@
 // Converged when the Newton step's largest vertex displacement is below tol_step (m): in a
 // dynamic step that is a velocity error below tol_step / h (IPC's criterion; the simulation's
 // default is tol_step = 1e-2 l h, l the sheet's rest diagonal, as in IPC).
+#include <string>
+
 #include "numerics/sparse_cholesky.hpp"
 #include "sim/potential.hpp"
 
@@ -19,9 +21,22 @@ using LinearSolver = numerics::SparseCholesky;
 using numerics::parse_solver_kind;
 using numerics::SolverKind;
 
+// How a Newton step's size is measured against tol_step. Max: the largest vertex displacement
+// (IPC's). MassRms: the mass-weighted root mean square of the vertex displacements,
+// sqrt(sum m_i |p_i|^2 / sum m_i), so that in a dynamic step the kinetic energy of the
+// remaining correction, 1/2 M_total (|p|_rms / h)^2, is below that of the whole sheet moving
+// at tol_step / h. A soft knit's crumples leave a few vertices whose position the energy
+// barely fixes (the tables' bending stiffness is ~1e-7 N m); the largest displacement then
+// measures those and a step took 26-100 iterations, the mean square measures the motion.
+// Auto: the simulation's default, MassRms for dynamic steps and Max for static solves.
+enum class StepNorm { Auto, Max, MassRms };
+StepNorm parse_step_norm(const std::string& name);  // "auto", "max", "rms"
+const char* step_norm_name(StepNorm n);
+
 struct NewtonSettings {
   int max_iterations = 100;
-  double tol_step = 0;     // m, infinity norm of the Newton step; 0: the caller's default
+  double tol_step = 0;     // m, the Newton step's size in `norm`; 0: the caller's default
+  StepNorm norm = StepNorm::Auto;
   double armijo = 1e-4;
 };
 
@@ -32,14 +47,15 @@ struct NewtonStats {
   int shifted = 0;          // factorizations that needed a diagonal shift
   int backtracks = 0;       // line-search halvings
   int extensions = 0;       // line-search doublings past the full step (negative curvature)
-  double step_norm = 0;     // infinity norm of the last Newton step
+  double step_norm = 0;     // the last Newton step's size in the settings' norm
   double t_assemble = 0, t_solve = 0, t_line_search = 0;  // wall seconds
   ShellTimings shell;       // CPU seconds inside the element loop
 };
 
-// Minimizes from x (3n; prescribed vertices already at their targets and kept there).
+// Minimizes from x (3n; prescribed vertices already at their targets and kept there). The
+// hinges' branches S.theta_ref (when set) are carried to each accepted iterate.
 NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
-                            const StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt,
+                            StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt,
                             bool profile = false);
 
 }  // namespace yarnhom::sim

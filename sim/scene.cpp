@@ -12,14 +12,16 @@ namespace yarnhom::sim {
 Integrator parse_integrator(const std::string& name) {
   if (name == "newton") return Integrator::Newton;
   if (name == "linearized") return Integrator::Linearized;
+  if (name == "baraff-witkin") return Integrator::BaraffWitkin;
   if (name == "static") return Integrator::Static;
-  throw std::invalid_argument("integrator '" + name + "': expected newton, linearized or static");
+  throw std::invalid_argument("integrator '" + name + "': expected newton, linearized, baraff-witkin or static");
 }
 
 const char* integrator_name(Integrator i) {
   switch (i) {
     case Integrator::Newton: return "newton";
     case Integrator::Linearized: return "linearized";
+    case Integrator::BaraffWitkin: return "baraff-witkin";
     case Integrator::Static: return "static";
   }
   return "?";

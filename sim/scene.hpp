@@ -14,8 +14,10 @@
 
 namespace yarnhom::sim {
 
-enum class Integrator { Newton, Linearized, Static };
-Integrator parse_integrator(const std::string& name);  // "newton", "linearized", "static"
+// Newton: implicit Euler solved by Newton; Linearized: one Newton iteration of it (one solve);
+// BaraffWitkin: ARCSim-HYLC's one-solve step (sim/integrators.hpp); Static: load steps.
+enum class Integrator { Newton, Linearized, BaraffWitkin, Static };
+Integrator parse_integrator(const std::string& name);  // "newton", "linearized", "baraff-witkin", "static"
 const char* integrator_name(Integrator i);
 
 // The stretch test's report (spec section 11): the reaction of the moving clamp along the

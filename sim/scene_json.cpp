@@ -187,7 +187,7 @@ void read_time_stepping(const Reader& r, const json& j, Scene& s) {
     nonneg("air", s.air_drag);
   }
   if (j.contains("integrator")) {
-    if (!j["integrator"].is_string()) r.fail("integrator", "must be newton, linearized or static");
+    if (!j["integrator"].is_string()) r.fail("integrator", "must be newton, linearized, baraff-witkin or static");
     try {
       s.integrator = parse_integrator(j["integrator"].get<std::string>());
     } catch (const std::exception& e) {
@@ -198,7 +198,13 @@ void read_time_stepping(const Reader& r, const json& j, Scene& s) {
   if (j.contains("substeps")) s.substeps = r.integer(j["substeps"], "substeps", 1);
   if (j.contains("frames")) s.frames = r.integer(j["frames"], "frames", 1);
   if (j.contains("newton")) {
-    r.only(j["newton"], "newton", {"tolerance", "max_iterations"});
+    r.only(j["newton"], "newton", {"tolerance", "tolerance_norm", "max_iterations"});
+    if (j["newton"].contains("tolerance_norm")) {
+      const auto& n = j["newton"]["tolerance_norm"];
+      if (!n.is_string() || (n != "auto" && n != "max" && n != "rms"))
+        r.fail("newton.tolerance_norm", "must be \"auto\", \"max\" or \"rms\"");
+      s.newton.norm = parse_step_norm(n.get<std::string>());
+    }
     if (j["newton"].contains("tolerance")) s.newton.tol_step = r.positive(j["newton"]["tolerance"], "newton.tolerance");
     if (j["newton"].contains("max_iterations"))
       s.newton.max_iterations = r.integer(j["newton"]["max_iterations"], "newton.max_iterations", 1);

@@ -52,7 +52,7 @@ std::string friction_description(const Scene& s) {
     std::snprintf(buf, sizeof buf, "%s%g", k ? ", " : "mu ", s.colliders[k].friction);
     out += buf;
   }
-  if (s.integrator == Integrator::Linearized && out != "mu 0") out += " (not applied by the linearized integrator)";
+  if (s.integrator == Integrator::BaraffWitkin && out != "mu 0") out += " (not applied by the Baraff-Witkin integrator)";
   return out;
 }
 
@@ -92,6 +92,7 @@ Scene make_scene(const SimRunOptions& o) {
   if (o.substeps > 0) s.substeps = o.substeps;
   if (o.frames > 0) s.frames = o.frames;
   if (o.tol > 0) s.newton.tol_step = o.tol;
+  if (!o.tol_norm.empty()) s.newton.norm = parse_step_norm(o.tol_norm);
   if (o.max_iterations > 0) s.newton.max_iterations = o.max_iterations;
   if (o.alpha >= 0) s.rayleigh_alpha = o.alpha;
   if (o.beta >= 0) s.rayleigh_beta = o.beta;
@@ -224,6 +225,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
                rho_from.empty() ? "" : (" (from " + rho_from + ")").c_str(), integrator_name(s.integrator), s.dt,
                s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames",
                friction_description(s).c_str(), threads, numerics::blas_description());
+  if (mat.guard && !o.quiet) std::fprintf(stderr, "sim %s: %s\n", s.name.c_str(), describe(*mat.guard).c_str());
   const auto start = Clock::now();
   SimRunOutcome out{s.name, s.render_frames, run_simulation(s, mat.fn, rho, set, progress_line(o, s, start))};
   if (stderr_is_tty() && !o.quiet) std::fprintf(stderr, "\n");

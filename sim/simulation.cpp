@@ -61,8 +61,8 @@ std::optional<std::string> unphysical_strain(const Problem& P, const Eigen::Vect
                     t, e[0], e[1], e[2], e[3], e[4], e[5], psi, rest,
                     !(psi >= rest) ? "the material decreases outside its box in that direction (check the terms with "
                                      "`yarnhom eval`; bake it again with this yarnhom's bake)"
-                                   : "the energy rises there, so the time step overshot (the linearized integrator makes "
-                                     "one linear solve per step: try a smaller --dt, or --integrator newton)");
+                                   : "the energy rises there, so the time step overshot (try --substeps 2 or a smaller --dt; "
+                                     "the baraff-witkin integrator has no line search: --integrator linearized has one)");
       return std::string(buf);
     }
   }
@@ -228,7 +228,11 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     // IPC's: a velocity error of 1e-2 rest diagonals per second; statics: 1e-8 diagonals.
     nopt.tol_step = dynamic ? 1e-2 * diag * h : 1e-8 * diag;
   }
+  // Dynamics: that velocity error as the mass-weighted mean over the sheet (sim/newton.hpp);
+  // statics: at every vertex.
+  if (nopt.norm == StepNorm::Auto) nopt.norm = dynamic ? StepNorm::MassRms : StepNorm::Max;
   R.tol_step = nopt.tol_step;
+  R.tol_norm = nopt.norm;
   if (!dynamic) {
     // A quasi-static load path starts in equilibrium: the sheet relaxes at load 0 first (a
     // material with a natural bending moment curls, one with a rest stress settles), as the
@@ -264,8 +268,12 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       if (dynamic) {
         rec.time = step * h;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
-        st = scene.integrator == Integrator::Newton ? implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges)
-                                                    : linearized_step(P, D, pat, solver, x, v, target, h, set.profile, &hinges);
+        if (scene.integrator == Integrator::Newton)
+          st = implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges);
+        else if (scene.integrator == Integrator::Linearized)
+          st = linearized_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges);
+        else
+          st = baraff_witkin_step(P, D, pat, solver, x, v, target, h, set.profile, &hinges);
       } else {
         rec.time = double(frame) / scene.frames;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);

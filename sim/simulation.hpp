@@ -61,6 +61,7 @@ struct SimResult {
   double kappa = 0;              // the barrier stiffness used
   double friction_eps_v = 0;     // friction's sticking velocity used, m/s
   double tol_step = 0;           // the Newton tolerance used, m
+  StepNorm tol_norm = StepNorm::Max;  // ... and the norm it bounds
 };
 
 // Called after every frame with the frame number and the steps so far.

@@ -28,15 +28,20 @@ void add_stretch_options(CLI::App* cmd, sim::SimRunOptions& o) {
 // Time stepping, the Newton solves and the forces.
 void add_integrator_options(CLI::App* cmd, sim::SimRunOptions& o) {
   cmd->add_option("--integrator", o.integrator,
-                  "newton (implicit Euler, Newton + line search; default), linearized (ARCSim-HYLC's one-solve "
-                  "step), static (load steps to equilibrium; stretch's default)")
-      ->check(CLI::IsMember({"newton", "linearized", "static"}));
+                  "newton (implicit Euler, Newton + line search; default), linearized (one solve per step: one "
+                  "Newton iteration of the same step, with its line search), baraff-witkin (ARCSim-HYLC's one-solve "
+                  "step, no line search: for comparisons), static (load steps to equilibrium; stretch's default)")
+      ->check(CLI::IsMember({"newton", "linearized", "baraff-witkin", "static"}));
   cmd->add_option("--dt", o.dt, "Seconds per frame (default 1/30)")->check(CLI::PositiveNumber);
   cmd->add_option("--substeps", o.substeps, "Time steps per frame (default 1)")->check(CLI::Range(1, 100000));
   cmd->add_option("--frames", o.frames, "Frames to simulate (or load steps for static runs)")->check(CLI::Range(1, 1000000));
-  cmd->add_option("--tol", o.tol, "Newton tolerance: largest vertex move of a Newton step, m (default: 1e-2 l dt per step for "
+  cmd->add_option("--tol", o.tol, "Newton tolerance: size of a Newton step in --tol-norm, m (default: 1e-2 l dt per step for "
                   "dynamics (IPC's velocity criterion), 1e-8 l for statics, l the sheet's rest diagonal; stretch 1e-9)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--tol-norm", o.tol_norm,
+                  "How --tol measures a Newton step: rms (the mass-weighted root mean square of the vertex moves: "
+                  "the default for dynamics), max (the largest vertex move, IPC's: the default for statics), auto")
+      ->check(CLI::IsMember({"auto", "max", "rms"}));
   cmd->add_option("--max-iterations", o.max_iterations, "Newton iterations per step at most (default 100)")
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--rayleigh-alpha", o.alpha, "Mass-proportional damping, 1/s (default 0)")->check(CLI::NonNegativeNumber);
@@ -46,7 +51,7 @@ void add_integrator_options(CLI::App* cmd, sim::SimRunOptions& o) {
                   "Coulomb friction coefficient mu between the cloth and every collider, overriding the scene's "
                   "(drape: 0.3; scene files: their \"friction\", else 0; 0 = frictionless). IPC's lagged smooth "
                   "friction: the normal force and tangent plane of each contact taken at the step's start; not "
-                  "applied by --integrator linearized (docs/sim.md)")
+                  "applied by --integrator baraff-witkin (docs/sim.md)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--friction-eps-v", o.eps_v,
                   "Friction's sticking velocity threshold eps_v, m/s: below it the friction force ramps smoothly "
