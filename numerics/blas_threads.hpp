@@ -17,4 +17,15 @@ bool set_blas_threads(int threads);
 // "OpenBLAS <config>, N thread(s)" or "reference BLAS (or unknown)".
 const char* blas_description();
 
+// OpenBLAS's DYNAMIC_ARCH picks its kernels from the CPU's family and model numbers; a CPU it
+// does not know (a virtual machine's "Intel(R) Xeon(R) Processor", a newer model than the
+// library) gets the oldest x86-64 kernels, "Prescott" (SSE3), whatever the CPU supports. On
+// such a machine with AVX-512 the 16k-triangle drape's factorization took 303 ms instead of
+// 173 ms with the SkylakeX kernels (docs/benchmarks.md). This returns the kernel set the CPU
+// supports ("SkylakeX" with AVX-512 F/BW/DQ/VL/CD, else "Haswell" with AVX2 and FMA) when the
+// loaded OpenBLAS fell back to one older than that, and nullptr otherwise (not OpenBLAS, a
+// kernel set already chosen, or OPENBLAS_CORETYPE set). The library reads OPENBLAS_CORETYPE
+// when it is loaded, so the program must set it and start again (tools/cli/main.cpp).
+const char* blas_kernels_to_request();
+
 }  // namespace yarnhom::numerics

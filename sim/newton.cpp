@@ -89,10 +89,10 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     ++st.iterations;
     st.step_norm = step_size(P, D, pf, opt.norm);
     if (!std::isfinite(st.step_norm)) break;
-    if (st.step_norm < opt.tol_step) {
-      st.converged = true;
-      break;
-    }
+    // A step below the tolerance converges the solve, and is still taken (line search included,
+    // one energy evaluation): the last correction is not dropped, so a slow creep below the
+    // tolerance's speed is not frozen into a rest that is not one.
+    const bool last = st.step_norm < opt.tol_step;
     Eigen::VectorXd p = Eigen::VectorXd::Zero(x.size());
     scatter_free(D, pf, p);
     const double slope = g.dot(pf);  // < 0 for a positive-definite solve
@@ -112,7 +112,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     // slope/2 for a Newton step) crossed a region of negative curvature, which the projected
     // Hessian flattened to zero: the step is too short there. Extend it while the energy keeps
     // falling (up to 16 steps, within the collider bound), instead of creeping.
-    if (ls.accepted && alpha == 1.0 && En - E < 0.5 * slope) {
+    if (!last && ls.accepted && alpha == 1.0 && En - E < 0.5 * slope) {
       const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p));  // multiple of p allowed from x
       const numerics::Extension ext = numerics::extend_step(
           1.0, En, slope, 4, 0.0,
@@ -140,6 +140,10 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     // (a soft knit's edge curling within one time step) is then still continuous, as long as no
     // single Newton update turns it by pi (sim/hinge_angles.hpp).
     if (!S.theta_ref.empty()) S.theta_ref = hinge_angles(P.mesh, x, &S.theta_ref);
+    if (last) {
+      st.converged = true;
+      break;
+    }
   }
   return st;
 }

@@ -155,8 +155,10 @@ void write_step_row(FILE* csv, const StepRecord& rec) {
 }
 
 // A step's Newton statistics and timings, and its energies where the step stayed finite.
+// The potential energy is evaluated on the hinges' carried branches (a hinge past pi would
+// otherwise count on (-pi, pi] and the energy jump).
 void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const DofMap& D, const Eigen::VectorXd& x,
-                 const Eigen::VectorXd& v) {
+                 const Eigen::VectorXd& v, const std::vector<double>& hinges) {
   rec.iterations = st.newton.iterations;
   rec.converged = st.newton.converged;
   rec.backtracks = st.newton.backtracks;
@@ -174,6 +176,7 @@ void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const D
   if (st.finite) {
     StepState none;
     none.dynamic = false;
+    none.theta_ref = hinges;
     rec.potential = potential_value(P, D, none, x);
     double kin = 0, vmax = 0;
     for (int i = 0; i < P.mesh.num_vertices(); ++i) {
@@ -282,7 +285,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges, &previous);
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
-      record_step(rec, st, P, D, x, v);
+      record_step(rec, st, P, D, x, v, hinges);
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;

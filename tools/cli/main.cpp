@@ -4,9 +4,19 @@
 #include <cstdio>
 #include <exception>
 
+#include <cstdlib>
+#include <unistd.h>
+
+#include "numerics/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 
 int main(int argc, char** argv) {
+  // OpenBLAS on a CPU it does not recognize runs its slowest kernels: start again asking for
+  // the ones the CPU supports (numerics/blas_threads.hpp). Once: the variable is then set.
+  if (const char* kernels = yarnhom::numerics::blas_kernels_to_request()) {
+    setenv("OPENBLAS_CORETYPE", kernels, 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: carry on with the kernels we have
+  }
   CLI::App app{
       "yarnhom: turns yarn-level cloth into fast, stable continuum material models with neural "
       "networks (Feng et al. 2024, 'Neural-Assisted Homogenization of Yarn-Level Cloth').\n"
