@@ -68,4 +68,4 @@ for wc in 1e-3 0; do
     fi
   done
 done
-column -t -s, "$summary"
+if command -v column > /dev/null; then column -t -s, "$summary"; else cat "$summary"; fi

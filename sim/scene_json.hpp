@@ -11,9 +11,9 @@
 //     "barrier": {"dhat": 1e-3, "kappa": 100},
 //     "friction": 0.3 | {"mu": 0.3, "eps_v": 7e-4, "updates": 0},      (colliders without their own)
 //     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},
-//     "integrator": "newton" | "linearized" | "static",
+//     "integrator": "newton" | "linearized" | "baraff-witkin" | "static",
 //     "dt": 0.0333, "substeps": 1, "frames": 90,
-//     "newton": {"tolerance": 1e-6, "max_iterations": 100},
+//     "newton": {"tolerance": 1e-6, "tolerance_norm": "rms" | "max" | "auto", "max_iterations": 100},
 //     "render": [0, 30, 90],
 //     "stretch_report": {"handle": 1, "axis": [1, 0, 0], "length": 0.1, "width": 0.05, "middle": [0.05, 0.025]}
 //   }

@@ -241,6 +241,24 @@ TEST(CliSim, SceneFileWithAMovingHandleRuns) {
   EXPECT_NEAR(v[6][0], 0.22, 1e-9);  // the handle's corner moved by the path's end offset
   EXPECT_NEAR(v[6][2], 0.05, 1e-9);
   EXPECT_NEAR(v[0][0], 0.0, 1e-12);  // pinned
+  // The same scene with the one-solve step, the Newton tolerance's norm named, and ARCSim's step.
+  for (const char* integ : {"linearized", "baraff-witkin"}) {
+    std::ifstream in(d + "/scene.json");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    text.replace(text.rfind('}'), 1, std::string(R"(, "integrator": ")") + integ +
+                                        R"(", "newton": {"tolerance_norm": "max"}})");
+    std::ofstream(d + "/scene_" + integ + ".json") << text;
+    r = run("sim " + d + "/scene_" + integ + ".json -o " + d + "/out_" + integ + " -q");
+    ASSERT_EQ(r.status, 0) << integ << ": " << r.out;
+    const auto w = read_obj_vertices(d + "/out_" + integ + "/frames/frame_0006.obj");
+    ASSERT_EQ(w.size(), 7u * 4u);
+    EXPECT_NEAR(w[6][0], 0.22, 1e-9) << integ;
+  }
+  std::ofstream(d + "/bad_norm.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}},
+    "material": "mat.json", "newton": {"tolerance_norm": "l2"}})";
+  r = run("sim " + d + "/bad_norm.json -o " + d + "/bad -q");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("key 'newton.tolerance_norm'"), std::string::npos) << r.out;
   fs::remove_all(d);
 }
 
