@@ -60,7 +60,8 @@ void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::Vector
 
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                              const NewtonSettings& opt, bool profile, std::vector<double>* hinges) {
+                              const NewtonSettings& opt, bool profile, std::vector<double>* hinges,
+                              double potential_at_x) {
   StepState S;
   S.dynamic = true;
   S.theta_ref = step_branches(P.mesh, x, hinges);
@@ -85,7 +86,17 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   {
     Eigen::VectorXd xs = x;
     apply_targets(D, target, xs);
-    const double phi_pred = potential_value(P, D, S, xn), phi_start = potential_value(P, D, S, xs);
+    double phi_start;
+    if (std::isfinite(potential_at_x) && xs == x) {
+      // Phi(x_n) = the inertia term, which is the kinetic energy there, plus the potential
+      // energy; the damping terms vanish at x_n and friction is not yet lagged.
+      double kinetic = 0;
+      for (int i = 0; i < P.mesh.num_vertices(); ++i) kinetic += 0.5 * P.mass[i] * v.segment<3>(3 * i).squaredNorm();
+      phi_start = kinetic + potential_at_x;
+    } else {
+      phi_start = potential_value(P, D, S, xs);
+    }
+    const double phi_pred = potential_value(P, D, S, xn);
     if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) xn = xs;
   }
   StepStats out;
@@ -99,10 +110,11 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
 
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          const NewtonSettings& opt, bool profile, std::vector<double>* hinges) {
+                          const NewtonSettings& opt, bool profile, std::vector<double>* hinges,
+                          double potential_at_x) {
   NewtonSettings one = opt;
   one.max_iterations = 1;
-  StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges);
+  StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges, potential_at_x);
   st.newton.converged = st.finite;  // one solve by design: nothing to converge
   return st;
 }

@@ -31,6 +31,7 @@
 // collider response is a projection).
 #include "sim/newton.hpp"
 
+#include <cmath>
 #include <vector>
 
 namespace yarnhom::sim {
@@ -45,14 +46,19 @@ struct StepStats {
 // entries ignored). hinges (optional): the dihedral angles at x on their continuous branch
 // (sim/hinge_angles.hpp), updated to the step's end; without it each step starts from
 // (-pi, pi] at x (still continuous within the step).
+// potential_at_x (optional): the potential energy (shell, gravity, colliders; on the hinges'
+// carried branches) at x, when the caller has it (the previous step's record): it spares one
+// energy pass in choosing the start point.
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                              const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr);
+                              const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr,
+                              double potential_at_x = NAN);
 
 // opt: as for the Newton step; its max_iterations is ignored (one).
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
-                          const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr);
+                          const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr,
+                          double potential_at_x = NAN);
 
 StepStats baraff_witkin_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                              Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,

@@ -257,6 +257,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
     if (!dir.empty()) write_stretch_csv((fs::path(dir) / "stretch.csv").string(), R.stretch, stretch_index ? "dPsi_ds_y" : "dPsi_ds_x");
   }
   int step = 0;
+  double last_potential = NAN;  // the recorded potential energy at x (spares the next step a pass)
   Eigen::VectorXd& x = R.x;
   Eigen::VectorXd& v = R.v;
   for (int frame = 1; frame <= scene.frames; ++frame) {
@@ -272,9 +273,9 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         rec.time = step * h;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
         if (scene.integrator == Integrator::Newton)
-          st = implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges);
+          st = implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential);
         else if (scene.integrator == Integrator::Linearized)
-          st = linearized_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges);
+          st = linearized_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential);
         else
           st = baraff_witkin_step(P, D, pat, solver, x, v, target, h, set.profile, &hinges);
       } else {
@@ -286,6 +287,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
       record_step(rec, st, P, D, x, v, hinges);
+      last_potential = rec.potential;
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
