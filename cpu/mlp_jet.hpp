@@ -19,6 +19,9 @@
 // mlp_jet_backward is the reverse mode of that computation: given dL/d(output jet), it adds
 // dL/d(every weight and bias) into dparams, differentiating through all jet channels (which is
 // why it needs s4). The CUDA twins in cuda/ have the same names, arguments and math.
+#if defined(__CUDACC__)
+#error "cpu/mlp_jet.hpp (Eigen) in a translation unit nvcc compiles: include cpu/loss_types.hpp instead (docs/layout.md, Compiler flags)"
+#endif
 #include <Eigen/Dense>
 #include <vector>
 

@@ -11,6 +11,9 @@
 //
 // Errors (no GPU, out of memory, a failed launch) throw yarnhom::cuda::CudaError, whose
 // message names the CUDA call and the CUDA error string.
+//
+// Included by every .cu file, so it includes no Eigen (cpu/loss_types.hpp, not
+// cpu/loss_step.hpp): docs/layout.md, "Compiler flags".
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -19,7 +22,7 @@
 
 #include "core/network.hpp"
 #include "cpu/adam.hpp"
-#include "cpu/loss_step.hpp"
+#include "cpu/loss_types.hpp"
 #include "cpu/losses.hpp"
 
 namespace yarnhom::cuda {
@@ -35,6 +38,10 @@ int device_count();
 std::string device_description();
 // Throws CudaError with a clear message when no GPU can be used.
 void require_device();
+// YARNHOM_HOST_ISA (core/host_isa.hpp) as nvcc's host pass saw it: the target ISA the .cu
+// files' host code was compiled for, which must be the .cpp files' (tests/cuda/test_host_isa.cpp).
+// Host code only; needs no GPU.
+std::string host_isa();
 
 // A device array of T (float or int), owned.
 template <class T>

@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cpu/loss_step.hpp"
+#include "cpu/loss_types.hpp"
 #include "cuda/api.hpp"
 #include "cuda/check.cuh"
 #include "cuda/jet_block.cuh"

@@ -4,11 +4,12 @@
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev libcli11-dev libgtest-dev
       libgmock-dev libbenchmark-dev nlohmann-json3-dev libsuitesparse-dev python3 python3-numpy python3-h5py python3-matplotlib
-      libopenblas0-pthread)
+      libopenblas0-pthread ccache)
 # libopenblas0-pthread becomes the system's libblas.so.3 / liblapack.so.3 (Debian alternatives):
 # CHOLMOD's supernodal factorization, which the simulators' Newton solves spend most of their
 # time in, runs ~5x faster on it than on the reference BLAS (docs/benchmarks.md). No rebuild
 # needed: the programs link libblas.so.3, whichever provides it.
+# ccache is optional: .ci/run builds twice (with and without the CUDA backend) through it.
 # PyTorch is only the reference the tests compare against (skipped without it); set
 # YARNHOM_NO_TORCH=1 to leave it out.
 [ "${YARNHOM_NO_TORCH:-0}" = 1 ] || pkgs+=(python3-torch)

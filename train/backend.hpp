@@ -14,7 +14,7 @@
 
 #include "core/network.hpp"
 #include "cpu/adam.hpp"
-#include "cpu/loss_step.hpp"
+#include "cpu/loss_types.hpp"
 
 namespace yarnhom {
 

@@ -9,6 +9,7 @@
 
 #include "core/jet_layout.hpp"
 #include "cpu/flush_denormals.hpp"
+#include "cpu/loss_step.hpp"
 #include "train/cpu_backend.hpp"
 #include "train/epoch_plan.hpp"
 
