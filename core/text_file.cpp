@@ -1,5 +1,6 @@
 #include "core/text_file.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -9,6 +10,8 @@
 namespace yarnhom {
 
 std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return "";  // a FIFO would block the reader
   std::ifstream f(path);
   std::stringstream ss;
   ss << f.rdbuf();

@@ -4,7 +4,7 @@
 
 namespace yarnhom {
 
-// The file's text ("" when it cannot be read).
+// The file's text ("" when it cannot be read or is not a regular file: a FIFO would block).
 std::string read_text_file(const std::string& path);
 
 // Written atomically (core/atomic_file.hpp); FileError(path, "", problem) when the write fails.

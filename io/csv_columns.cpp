@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/file_checks.hpp"
 
 namespace yarnhom {
 
@@ -24,6 +25,7 @@ std::vector<std::string> split(const std::string& line) {
 }  // namespace
 
 CsvColumns read_csv_columns(const std::string& path, const std::vector<std::string>& only) {
+  check_input_file(path);  // a FIFO would block the reader
   std::ifstream in(path);
   if (!in) throw FileError(path, "", "cannot open");
   std::vector<std::string> header;

@@ -5,9 +5,12 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/file_checks.hpp"
+
 namespace yarnhom::io {
 
 json read_json_file(const std::string& path) {
+  check_input_file(path);  // a FIFO would block the reader
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open");
   try {

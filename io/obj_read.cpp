@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/file_checks.hpp"
 
 namespace yarnhom {
 
@@ -46,6 +47,7 @@ struct Parser {
 }  // namespace
 
 ObjGeometry read_obj_geometry(const std::string& path) {
+  check_input_file(path);  // a FIFO would block the reader
   std::ifstream in(path);
   if (!in) throw FileError(path, "", "cannot open");
   Parser P{path};

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/baked.hpp"
+#include "core/file_checks.hpp"
 #include "core/h5.hpp"
 #include "material/hylc_material.hpp"
 
@@ -44,6 +45,7 @@ GuardBox hylc_guard_box(const HylcMaterial& m) {
 }  // namespace
 
 LoadedMaterial load_material(const std::string& path) {
+  check_input_file(path, "material");  // a FIFO would block the reader
   std::ifstream probe(path);
   if (!probe) throw std::invalid_argument(path + ": cannot open material file");
   probe.close();

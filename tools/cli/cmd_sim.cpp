@@ -94,7 +94,8 @@ void register_sim(CLI::App& app) {
   cmd->add_option("SCENE", o->scene, "drape, hang, stretch, or a scene file (.json)")->required();
   add_output_option(cmd, o->out, "Output folder (created)");
   cmd->add_option("--material", o->material,
-                  "Baked file (yarnhom bake) or HYLC material JSON; required unless the scene file names one");
+                  "Baked file (yarnhom bake) or HYLC material JSON; required unless the scene file names one")
+      ->check(existing_regular_file());
   cmd->add_option("--density", o->density,
                   "Areal density in kg/m^2 (default: the scene file's, else the material's; required for gravity "
                   "when neither has one)")

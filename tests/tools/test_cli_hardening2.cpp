@@ -1,0 +1,70 @@
+// Issue 32 ("hardening, second round"): inputs that are FIFOs are refused before they are
+// opened (sim's scene file, --material, and a scene's "material" and "mesh": {"obj"}); NaN,
+// infinite and negative floating options of sim and export-hylc are refused at parse time
+// naming the option and the value; export-hylc's -o may not be its input (the same path or a
+// symbolic link to it), and a failed export leaves the previous output as it was.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "tests/common/run_cli.hpp"
+#include "tests/common/small_files.hpp"
+
+namespace fs = std::filesystem;
+using yarnhom::test::run_cli_limited;
+
+namespace {
+
+std::string slurp(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+const char* kRectangle = R"("mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}})";
+
+// A baked file with an areal density (export-hylc's and sim's material).
+std::string small_baked(const yarnhom::test::TempDir& d) {
+  const auto f = yarnhom::test::write_small_files(d);
+  return f.baked;
+}
+
+// Refused: an error status (1, or CLI11's 105 for a bad option), not a signal or the time limit.
+bool refused(int status) { return status != 0 && status < 128; }
+
+// Runs args under a 20 s limit: refused within 10 s, naming `named` and `words`.
+void expect_refused_quickly(const std::string& args, const std::string& named, const std::string& words) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = run_cli_limited(args, 20);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << args << "\n" << r.out;
+  EXPECT_LT(s, 10.0) << args;
+  EXPECT_NE(r.out.find(named), std::string::npos) << args << ": does not name " << named << "\n" << r.out;
+  EXPECT_NE(r.out.find(words), std::string::npos) << args << ": does not say '" << words << "'\n" << r.out;
+}
+
+}  // namespace
+
+TEST(Hardening2, FifoInputsOfSimAreRefusedBeforeTheyAreOpened) {
+  yarnhom::test::TempDir d("fifo_sim");
+  const std::string fifo = d / "fifo.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  const std::string fifo_obj = d / "fifo.obj";
+  ASSERT_EQ(::mkfifo(fifo_obj.c_str(), 0644), 0);
+  const std::string baked = small_baked(d);
+  // The scene file itself.
+  expect_refused_quickly("sim " + fifo + " -o " + d / "o1 -q --material " + baked, fifo, "FIFO");
+  // --material.
+  expect_refused_quickly("sim drape -o " + d / "o2 -q --material " + fifo, fifo, "FIFO");
+  // The scene's "material".
+  std::ofstream(d / "scene_mat.json") << "{" << kRectangle << R"(, "material": "fifo.json"})";
+  expect_refused_quickly("sim " + d / "scene_mat.json -o " + d / "o3 -q", fifo, "FIFO");
+  // The scene's "mesh": {"obj": ...}.
+  std::ofstream(d / "scene_obj.json") << R"({"mesh": {"obj": "fifo.obj"}})";
+  expect_refused_quickly("sim " + d / "scene_obj.json -o " + d / "o4 -q --material " + baked, fifo_obj, "FIFO");
+  for (const char* o : {"o1", "o2", "o3", "o4"}) EXPECT_FALSE(fs::exists(d / o)) << o;
+}
