@@ -68,3 +68,50 @@ TEST(Hardening2, FifoInputsOfSimAreRefusedBeforeTheyAreOpened) {
   expect_refused_quickly("sim " + d / "scene_obj.json -o " + d / "o4 -q --material " + baked, fifo_obj, "FIFO");
   for (const char* o : {"o1", "o2", "o3", "o4"}) EXPECT_FALSE(fs::exists(d / o)) << o;
 }
+
+TEST(Hardening2, NonFiniteAndNegativeFloatingOptionsAreRefusedNamingOptionAndValue) {
+  yarnhom::test::TempDir d("nan_opts");
+  const std::string baked = small_baked(d);
+  // sim: each option with nan, inf and (where invalid) a negative value and zero.
+  struct Case {
+    const char* option;
+    bool zero_ok;
+  };
+  for (const Case& c : {Case{"--dt", false}, Case{"--density", false}, Case{"--tol", false},
+                        Case{"--rayleigh-alpha", true}, Case{"--rayleigh-beta", true}, Case{"--air", true},
+                        Case{"--friction", true}, Case{"--friction-eps-v", false}}) {
+    std::vector<std::string> bad = {"nan", "inf", "-inf", "-1"};
+    if (!c.zero_ok) bad.push_back("0");
+    for (const std::string& v : bad) {
+      const auto r = run_cli_limited("sim drape -o " + d / "o -q --frames 1 --render none --material " + baked + " " +
+                                         c.option + " " + v,
+                                     30);
+      EXPECT_TRUE(refused(r.status)) << r.status << " " << c.option << " " << v << "\n" << r.out;
+      EXPECT_NE(r.out.find(c.option), std::string::npos) << c.option << " " << v << "\n" << r.out;
+      EXPECT_NE(r.out.find("'" + v + "'"), std::string::npos) << c.option << " " << v << "\n" << r.out;
+    }
+  }
+  EXPECT_FALSE(fs::exists(d / "o"));
+  // export-hylc --density and --margin.
+  for (const std::string& v : {"nan", "inf", "-1", "0"}) {
+    const auto r = run_cli_limited("export-hylc " + baked + " -o " + d / "m.json --density " + v, 30);
+    EXPECT_TRUE(refused(r.status)) << r.status << " --density " << v << "\n" << r.out;
+    EXPECT_NE(r.out.find("--density"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("'" + v + "'"), std::string::npos) << r.out;
+  }
+  for (const std::string& v : {"nan", "inf", "-inf", "-1", "1e-300", "5e-7", "11"}) {
+    const auto r = run_cli_limited("export-hylc " + baked + " -o " + d / "m.json --density 0.3 --margin " + v, 30);
+    EXPECT_TRUE(refused(r.status)) << r.status << " --margin " << v << "\n" << r.out;
+    EXPECT_NE(r.out.find("--margin"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("'" + v + "'"), std::string::npos) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(d / "m.json"));
+  // The smallest margin allowed writes knots sim accepts; 0 writes the box's own.
+  for (const std::string& v : {"1e-6", "0"}) {
+    const std::string out = d / ("m" + v + ".json");
+    auto r = run_cli_limited("export-hylc " + baked + " -o " + out + " --density 0.3 --margin " + v, 30);
+    ASSERT_EQ(r.status, 0) << "--margin " << v << "\n" << r.out;
+    r = run_cli_limited("sim drape -o " + d / ("s" + v) + " -q --frames 1 --resolution 2 --render none --no-frames --material " + out, 120);
+    EXPECT_EQ(r.status, 0) << "--margin " << v << "\n" << r.out;
+  }
+}

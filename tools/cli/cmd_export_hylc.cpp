@@ -12,9 +12,20 @@ void register_export_hylc(CLI::App& app) {
   cmd->add_option("--density", o->density,
                   "Areal density in kg/m^2 written as HYLC's \"density\" (default: the baked file's areal_density "
                   "attribute; required when the file has none)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--margin", o->margin, "Extension of each box on both sides, in box widths (default 0.5)")
-      ->check(CLI::Range(0.0, 10.0));
+      ->check(finite_positive());
+  cmd->add_option("--margin", o->margin,
+                  "Extension of each box on both sides, in box widths (default 0.5; 0: none; else at least 1e-6, "
+                  "so that the added knots increase strictly)")
+      ->check(CLI::Validator(
+          [](std::string& in) -> std::string {
+            double v;
+            if (!CLI::detail::lexical_cast(in, v) || !std::isfinite(v)) return "'" + in + "' is not a finite number";
+            if (v != 0 && !(v >= 1e-6 && v <= 10))
+              return "'" + in + "' is out of range: 0, or 1e-6 to 10 (a smaller margin adds knots that do not "
+                     "increase strictly)";
+            return "";
+          },
+          "0 or [1e-6, 10]"));
   cmd->callback([o] { export_hylc(*o); });
 }
 
