@@ -4,12 +4,16 @@
 #include <stdexcept>
 
 #include "core/baked.hpp"
+#include "core/console.hpp"
 #include "material/hylc_material.hpp"
 #include "material/material_source.hpp"
 
 namespace yarnhom {
 
 void export_hylc(const HylcExportOptions& o) {
+  // -o must not be the input (by device and inode: a symbolic or hard link to it included);
+  // the JSON is written atomically, so a failed export leaves the previous output as it was.
+  prepare_output(o.out, {o.baked}, "-o");
   const BakedModel baked = read_baked(o.baked);
   double rho = o.density;
   if (!(rho > 0)) {

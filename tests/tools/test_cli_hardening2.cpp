@@ -115,3 +115,38 @@ TEST(Hardening2, NonFiniteAndNegativeFloatingOptionsAreRefusedNamingOptionAndVal
     EXPECT_EQ(r.status, 0) << "--margin " << v << "\n" << r.out;
   }
 }
+
+TEST(Hardening2, ExportHylcRefusesToReplaceItsInputAndKeepsThePreviousOutput) {
+  yarnhom::test::TempDir d("export_self");
+  const std::string baked = small_baked(d);
+  const std::string before = slurp(baked);
+  // The same path.
+  auto r = run_cli_limited("export-hylc " + baked + " -o " + baked + " --density 0.3", 30);
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << r.out;
+  EXPECT_NE(r.out.find(baked), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(baked), before);
+  // A symbolic link to it.
+  const std::string link = d / "link.json";
+  fs::create_symlink(baked, link);
+  r = run_cli_limited("export-hylc " + baked + " -o " + link + " --density 0.3", 30);
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << r.out;
+  EXPECT_NE(r.out.find(link), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(baked), before);
+  EXPECT_TRUE(fs::is_symlink(link));
+  // A hard link to it.
+  const std::string hard = d / "hard.json";
+  fs::create_hard_link(baked, hard);
+  r = run_cli_limited("export-hylc " + baked + " -o " + hard + " --density 0.3", 30);
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << r.out;
+  EXPECT_EQ(slurp(baked), before);
+  // A failed export (the input is not a baked file) leaves the previous output as it was.
+  const std::string out = d / "m.json";
+  ASSERT_EQ(run_cli_limited("export-hylc " + baked + " -o " + out + " --density 0.3", 30).status, 0);
+  const std::string previous = slurp(out);
+  std::ofstream(d / "junk.h5") << "not hdf5";
+  r = run_cli_limited("export-hylc " + d / "junk.h5" + " -o " + out + " --density 0.3", 30);
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << r.out;
+  EXPECT_EQ(slurp(out), previous);
+  for (const auto& e : fs::directory_iterator(d.dir))
+    EXPECT_EQ(e.path().string().find(".partial-"), std::string::npos) << e.path();
+}

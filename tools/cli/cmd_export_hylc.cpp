@@ -7,7 +7,7 @@ namespace yarnhom::tools {
 
 void register_export_hylc(CLI::App& app) {
   auto [cmd, o] = add_command<HylcExportOptions>(app, "export-hylc");
-  cmd->add_option("BAKED", o->baked, "Baked file written by `yarnhom bake`")->required()->check(CLI::ExistingFile);
+  cmd->add_option("BAKED", o->baked, "Baked file written by `yarnhom bake`")->required()->check(existing_regular_file());
   add_output_option(cmd, o->out, "The material JSON to write");
   cmd->add_option("--density", o->density,
                   "Areal density in kg/m^2 written as HYLC's \"density\" (default: the baked file's areal_density "
