@@ -25,13 +25,24 @@ bool nearly_psd(const Eigen::Matrix<double, N, N>& H) {
   return ldlt.info() == Eigen::Success && D.minCoeff() >= -1e-12 * D.cwiseAbs().maxCoeff();
 }
 
+// What becomes of a negative eigenvalue. Clamp: 0 (the projection onto the PSD cone). Abs: its
+// absolute value (Chen et al., "Stabler Neo-Hookean Simulation: Absolute Eigenvalue Filtering
+// for Projected Newton", SIGGRAPH 2024): a direction of negative curvature keeps a curvature of
+// its size instead of none, so the Newton step along it is not left unbounded by the element
+// and cut back by the line search. On a curling stockinette's hang it cut the Newton iterations
+// from 7.8 to 4.7 per step (docs/sim.md, `sim --eigen-filter abs`); the default stays Clamp.
+enum class EigenFilter { Clamp, Abs };
+
 // Projects H in place; returns true when H was changed (false: PSD already, H untouched).
 template <int N>
-bool project_psd(Eigen::Matrix<double, N, N>& H) {
+bool project_psd(Eigen::Matrix<double, N, N>& H, EigenFilter filter = EigenFilter::Clamp) {
   if (nearly_psd<N>(H)) return false;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(H);
   if (es.eigenvalues()[0] >= 0) return false;
-  H = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+  if (filter == EigenFilter::Abs)
+    H = es.eigenvectors() * es.eigenvalues().cwiseAbs().asDiagonal() * es.eigenvectors().transpose();
+  else
+    H = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
   return true;
 }
 

@@ -8,7 +8,7 @@ namespace yarnhom::sim {
 
 Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
                                const Eigen::Matrix2d& B, Eigen::Matrix<double, 3, 9>* J,
-                               const Eigen::Vector3d* lambda, Mat9* H, bool psd) {
+                               const Eigen::Vector3d* lambda, Mat9* H, bool psd, numerics::EigenFilter filter) {
   // c(a, v): coefficient of vertex v in f_a.
   double c[2][3];
   for (int a = 0; a < 2; ++a) {
@@ -45,7 +45,7 @@ Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d&
       Eigen::Matrix<double, 6, 6> Hf;
       Hf << H11, H12, H12.transpose(), H22;
       Hf = (0.5 * (Hf + Hf.transpose())).eval();  // H11, H22 symmetric up to rounding
-      if (numerics::project_psd(Hf)) {
+      if (numerics::project_psd(Hf, filter)) {
         H11 = Hf.block<3, 3>(0, 0);
         H12 = Hf.block<3, 3>(0, 3);
         H22 = Hf.block<3, 3>(3, 3);

@@ -21,6 +21,8 @@
 // directions in tension with little shear: lambda_x, lambda_y > 0 and lambda_a small).
 #include <Eigen/Core>
 
+#include "numerics/psd_projection.hpp"
+
 namespace yarnhom::sim {
 
 using Vec9 = Eigen::Matrix<double, 9, 1>;
@@ -29,6 +31,7 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 // s = (s_x, s_a, s_y). J (if given) = ds/dx (3 x 9). H (if given) = sum_k lambda_k d2s_k/dx2.
 Eigen::Vector3d inplane_strain(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
                                const Eigen::Matrix2d& Binv, Eigen::Matrix<double, 3, 9>* J = nullptr,
-                               const Eigen::Vector3d* lambda = nullptr, Mat9* H = nullptr, bool project_psd = false);
+                               const Eigen::Vector3d* lambda = nullptr, Mat9* H = nullptr, bool project_psd = false,
+                               numerics::EigenFilter filter = numerics::EigenFilter::Clamp);
 
 }  // namespace yarnhom::sim

@@ -135,7 +135,7 @@ StepStats baraff_witkin_step(const Problem& P, const DofMap& D, const HessianPat
   Eigen::VectorXd grad = Eigen::VectorXd::Zero(x.size());
   const std::vector<double> ref = step_branches(P.mesh, xs, hinges);
   shell_energy_derivatives(P.mesh, P.rest, P.material, xs, grad, &pat, K.valuePtr(),
-                           profile ? &out.newton.shell : nullptr, P.hessian, ref.data());
+                           profile ? &out.newton.shell : nullptr, P.hessian, ref.data(), P.eigen_filter);
   const int F = D.num_free();
   Eigen::VectorXd vf(3 * F), rhs(3 * F);
   const Eigen::MatrixX3d normals = P.air_drag > 0 ? vertex_normals(P.mesh, xs) : Eigen::MatrixX3d();

@@ -106,7 +106,7 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings) {
   grad.setZero(x.size());
   double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
-                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter);
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;
     Eigen::Matrix3d H;
@@ -168,7 +168,8 @@ Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPatte
   Eigen::SparseMatrix<double> K = pat.matrix;
   std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
-  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr(), nullptr, P.hessian);
+  shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr(), nullptr, P.hessian, nullptr,
+                           P.eigen_filter);
   return K;
 }
 

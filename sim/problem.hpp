@@ -3,6 +3,7 @@
 // shape, the material, masses, gravity, colliders and damping.
 #include <vector>
 
+#include "numerics/psd_projection.hpp"
 #include "sim/collider.hpp"
 #include "sim/element_rest.hpp"
 #include "sim/hessian_model.hpp"
@@ -29,6 +30,7 @@ struct Problem {
                                 // set 1e-3 l per second, l the sheet's rest diagonal
   int friction_updates = 0;     // re-solves of a step with lambda and T taken at its solution (IPC's lag update)
   HessianModel hessian = HessianModel::Split;  // PSD model of the element Hessians (sim/hessian_model.hpp)
+  numerics::EigenFilter eigen_filter = numerics::EigenFilter::Clamp;  // ... and what it does to a negative eigenvalue
 };
 
 // Rest elements, vertex areas and masses from the mesh. areal_density may be 0 (no inertia

@@ -59,7 +59,8 @@ double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const M
 
 double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
-                                double* values, ShellTimings* timings, HessianModel model, const double* theta_ref) {
+                                double* values, ShellTimings* timings, HessianModel model, const double* theta_ref,
+                                numerics::EigenFilter filter) {
   const bool hess = pattern && values;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
   const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
@@ -98,12 +99,12 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       if (model == HessianModel::Split) {
         // J^T [H]_+ J + C^T [Hf]_+ C (sim/hessian_model.hpp); no bending curvature term.
         Eigen::Matrix<double, 6, 6> Hs = me.hess;
-        changed = numerics::project_psd(Hs);
+        changed = numerics::project_psd(Hs, filter);
         if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
         H.noalias() = J.transpose() * Hs * J;
         Mat9 Hin;
         const Eigen::Vector3d gin = me.grad.head<3>();
-        inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true);
+        inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true, filter);
         H.block<9, 9>(0, 0) += Hin;
         H *= A;
         if (timings) tm.chain += since(t0);
@@ -112,7 +113,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
         H += J.transpose() * me.hess * J;
         H *= A;
         if (timings) tm.chain += since(t0);
-        changed = model == HessianModel::ProjectedElement && numerics::project_psd(H);
+        changed = model == HessianModel::ProjectedElement && numerics::project_psd(H, filter);
       }
       if (timings) {
         tm.project += since(t0);

@@ -12,6 +12,7 @@
 #include "sim/hessian_model.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "material/material_fn.hpp"
+#include "numerics/psd_projection.hpp"
 #include "sim/mesh.hpp"
 
 namespace yarnhom::sim {
@@ -48,7 +49,8 @@ double shell_energy_derivatives(const Mesh& mesh, const std::vector<ElementRest>
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
                                 double* values, ShellTimings* timings = nullptr,
                                 HessianModel model = HessianModel::ProjectedElement,
-                                const double* theta_ref = nullptr);
+                                const double* theta_ref = nullptr,
+                                numerics::EigenFilter filter = numerics::EigenFilter::Clamp);
 
 // Per-triangle strain at x (for output and tests).
 std::vector<Strain6> triangle_strains(const Mesh& mesh, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x,

@@ -212,6 +212,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   set.out_dir = o.out;
   set.solver = parse_solver_kind(o.solver);
   set.hessian = parse_hessian_model(o.hessian);
+  set.eigen_filter = o.eigen_filter == "clamp" ? numerics::EigenFilter::Clamp : numerics::EigenFilter::Abs;
   set.profile = o.profile;
   set.write_frames = !o.no_frames;
   fs::create_directories(o.out);

@@ -11,7 +11,7 @@ namespace yarnhom::sim {
 
 struct SimRunOptions {
   std::string scene, out, material, integrator, direction = "course", solver = "auto", render, hessian = "split";
-  std::string size, stretch, tol_norm;
+  std::string size, stretch, tol_norm, eigen_filter = "clamp";
   double clamp = -1;
   double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
   int friction_updates = -1;

@@ -118,6 +118,7 @@ Problem scene_problem(const Scene& scene, const MaterialFn& material, double den
   P.rayleigh_beta = scene.rayleigh_beta;
   P.air_drag = scene.air_drag;
   P.hessian = set.hessian;
+  P.eigen_filter = set.eigen_filter;
   for (const Collider& c : P.colliders)
     if (!(c.friction >= 0) || !std::isfinite(c.friction)) throw std::invalid_argument("a collider's friction must be >= 0");
   // Friction's sticking velocity: IPC's default, 1e-3 sheet sizes per second.

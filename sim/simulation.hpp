@@ -24,6 +24,7 @@ struct SimSettings {
   std::string out_dir;           // "" = write nothing
   SolverKind solver = SolverKind::Auto;
   HessianModel hessian = HessianModel::Split;  // sim/hessian_model.hpp
+  numerics::EigenFilter eigen_filter = numerics::EigenFilter::Clamp;  // numerics/psd_projection.hpp
   bool profile = false;          // time split per step (adds clock reads per element)
   bool write_frames = true;
 };
