@@ -137,10 +137,10 @@ std::string describe(const CollapseGuard& g) {
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "collapse guard: k = %.4g J/m^2 outside s_x in [%.3g, %.3g], s_y in [%.3g, %.3g], s_a in [%.3g, %.3g], "
-                "principal curvatures within +-%.4g /m (infinite at s = -1 and 1 + 2 (its upper edge), |s_a| = 1, "
+                "principal curvatures within +-%.4g /m (infinite at s_x, s_y = -1, s_x = %.3g, s_y = %.3g, |s_a| = 1, "
                 "|curvature| = %.4g /m)",
                 g.scale, g.box.lo[0], g.box.hi[0], g.box.lo[2], g.box.hi[2], g.box.lo[1], g.box.hi[1], g.box.curvature,
-                g.curvature_limit);
+                2 * g.box.hi[0] + 1, 2 * g.box.hi[2] + 1, g.curvature_limit);
   return buf;
 }
 
