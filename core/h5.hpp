@@ -90,12 +90,18 @@ class Node {
 inline constexpr uint64_t kMaxElements = uint64_t(1) << 28;
 // The most entries one numeric attribute may have.
 inline constexpr uint64_t kMaxAttributeElements = uint64_t(1) << 20;
+// The longest fixed-length string attribute (1 MiB; the project's are paths and names).
+inline constexpr uint64_t kMaxStringAttributeBytes = uint64_t(1) << 20;
 
 // "[3, 4]" for messages.
 std::string shape_string(const std::vector<hsize_t>& dims);
 
 // Open for reading; refuses a missing file, one that is not a regular file (a FIFO would block
-// the reader) or one that is not HDF5, naming it.
+// the reader) or one that is not HDF5, naming it. Before the file is returned, a forked child
+// makes every kind of read the readers make on every object (h5.cpp: the probe); a file whose
+// corrupt metadata crashes or hangs the HDF5 library there is refused, naming the object,
+// instead of crashing the program (HDF5 1.10 dies by SIGSEGV in H5Aexists on one flipped byte
+// of an attribute message).
 Node open_file(const std::string& path);
 // Create (truncate) for writing.
 Node create_file(const std::string& path);
