@@ -210,12 +210,15 @@ TEST(StripStretch, ClampForcesBalanceAndTheStripPullsBack) {
   // yarn, and once cut free its loops relax and lengthen the strip, docs/strip.md section 6;
   // the generated strip itself carries no bulk stress: StripGenerate.StressFreeTile...)
   const auto& s = R.result.steps;
-  EXPECT_LT(s[0].force, 0);
   EXPECT_GT(s[1].force, s[0].force);
   EXPECT_GT(s[2].force, 0);
   EXPECT_GT(s[2].force, s[1].force);
   EXPECT_GT(s[2].energy, s[1].energy);
   EXPECT_NEAR(s[2].tension, s[2].force / R.strip.width, 1e-12 * std::abs(s[2].tension));
+  // The push at 100 % is stocktiny's: the built-in stockinette's strip pulls (+3.6e-4 N).
+  YARN_REQUIRE_SHARED_PATTERNS() << " (" << shared_pattern("stocktiny")
+                                 << " missing; the push at 100 % is stocktiny's)";
+  EXPECT_LT(s[0].force, 0);
 }
 
 TEST(StripStretch, ForceIsTheDerivativeOfTheEquilibriumEnergy) {
@@ -353,10 +356,15 @@ TEST(StripSolve, TrustRegionAndSwitchedNewtonReachTheSameEquilibrium) {
     r[k] = R.S.step(st, 1.1, 1.13, o);
     EXPECT_TRUE(r[k].solve.converged()) << k << ": " << r[k].solve.summary();
     EXPECT_TRUE(r[k].certificate.valid) << k << ": " << r[k].certificate.failure;
-    EXPECT_EQ(r[k].solve.fallback, k == 2) << k;
+    if (k < 2) { EXPECT_FALSE(r[k].solve.fallback) << k; }
   }
   for (int k : {0, 2}) {
     EXPECT_NEAR(r[k].energy, r[1].energy, 1e-10 * r[1].energy) << k;
     EXPECT_NEAR(r[k].force, r[1].force, 1e-7 * std::abs(r[1].force)) << k;
   }
+  // The hand-over happens on stocktiny's step; on the built-in stockinette's the trust region
+  // converges without stalling, so k = 2 does not test it.
+  YARN_REQUIRE_SHARED_PATTERNS() << " (" << shared_pattern("stocktiny")
+                                 << " missing; the built-in stockinette's step never stalls the trust region)";
+  EXPECT_TRUE(r[2].solve.fallback) << r[2].solve.summary();
 }
