@@ -222,7 +222,10 @@ void read_stretch_report(const Reader& r, const json& j, Scene& s) {
     s.stretch.moving_handle = size_t(r.integer(sr["handle"], "stretch_report.handle", 0));
     if (s.stretch.moving_handle >= s.handles.size())
       r.fail("stretch_report.handle", "no such handle (pins, if given, are handle 0)");
-    s.stretch.axis = r.vec3(sr["axis"], "stretch_report.axis").normalized();
+    const Eigen::Vector3d axis = r.vec3(sr["axis"], "stretch_report.axis");
+    // A zero (or non-finite) axis has no direction: every force along it would read 0.
+    if (!(axis.norm() > 0) || !axis.allFinite()) r.fail("stretch_report.axis", "must be a nonzero, finite direction");
+    s.stretch.axis = axis.normalized();
     s.stretch.length = r.positive(sr["length"], "stretch_report.length");
     s.stretch.width = r.positive(sr["width"], "stretch_report.width");
     if (!sr["middle"].is_array() || sr["middle"].size() != 2) r.fail("stretch_report.middle", "must be [u, v]");

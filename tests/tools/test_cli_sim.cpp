@@ -254,6 +254,13 @@ TEST(CliSim, SceneFileWithAMovingHandleRuns) {
     ASSERT_EQ(w.size(), 7u * 4u);
     EXPECT_NEAR(w[6][0], 0.22, 1e-9) << integ;
   }
+  // A stretch report along a zero axis (issue 32 item 7: it exited 0 with every force 0).
+  std::ofstream(d + "/zero_axis.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}},
+    "material": "mat.json", "handles": [{"select": {"vertices": [0]}, "path": [[0, 0, 0, 0], [1, 0.01, 0, 0]]}],
+    "stretch_report": {"handle": 0, "axis": [0, 0, 0], "length": 0.2, "width": 0.1, "middle": [0.1, 0.05]}})";
+  r = run("sim " + d + "/zero_axis.json -o " + d + "/zero -q");
+  EXPECT_EQ(r.status, 1) << r.out;
+  EXPECT_NE(r.out.find("key 'stretch_report.axis': must be a nonzero, finite direction"), std::string::npos) << r.out;
   std::ofstream(d + "/bad_norm.json") << R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.1, "nx": 2, "ny": 2}},
     "material": "mat.json", "newton": {"tolerance_norm": "l2"}})";
   r = run("sim " + d + "/bad_norm.json -o " + d + "/bad -q");
