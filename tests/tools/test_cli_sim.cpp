@@ -14,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+#include "tests/common/csv_rows.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -29,20 +30,7 @@ std::string tmpdir(const char* name) {
   return d.string();
 }
 
-std::vector<std::vector<double>> read_csv(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) r.push_back(std::stod(cell));
-    rows.push_back(r);
-  }
-  return rows;
-}
+std::vector<std::vector<double>> read_csv(const std::string& path) { return yarnhom::test::read_csv_rows(path); }
 
 std::vector<std::array<double, 3>> read_obj_vertices(const std::string& path) {
   std::ifstream in(path);

@@ -13,26 +13,14 @@
 #include <sstream>
 #include <vector>
 
+#include "tests/common/csv_rows.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<std::vector<double>> read_steps(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) r.push_back(std::stod(cell));
-    rows.push_back(r);
-  }
-  return rows;
-}
+std::vector<std::vector<double>> read_steps(const std::string& path) { return yarnhom::test::read_csv_rows(path); }
 
 // steps.csv's columns.
 constexpr int kIterations = 3, kConverged = 4, kPotential = 6, kKinetic = 7, kMaxSpeed = 8;
