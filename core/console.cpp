@@ -36,6 +36,20 @@ std::string prepare_output(const std::string& path, const std::vector<std::strin
   return target;
 }
 
+void prepare_output_folder(const std::string& folder, const std::vector<std::string>& subfolders,
+                           const std::vector<std::string>& files, const std::vector<std::string>& inputs,
+                           const std::string& option) {
+  const std::filesystem::path dir(folder);
+  std::vector<std::filesystem::path> dirs = {dir};
+  for (const std::string& sub : subfolders) dirs.push_back(dir / sub);
+  for (const auto& d : dirs) {
+    check_output_folder(d.string(), option);
+    std::filesystem::create_directories(d);
+  }
+  for (const auto& d : dirs) remove_stale_temporaries_in(d.string());
+  for (const std::string& f : files) check_output_file((dir / f).string(), inputs, option);
+}
+
 void remove_stale_temporaries_in(const std::string& folder) {
   for (const auto& e : std::filesystem::directory_iterator(folder)) {
     const std::string name = e.path().string();

@@ -19,6 +19,15 @@ bool stderr_is_tty();
 std::string prepare_output(const std::string& path, const std::vector<std::string>& inputs,
                            const std::string& option = "-o");
 
+// An output folder before work is written into it (the -o of sim and strip): refused as
+// check_output_folder refuses it (a file, a FIFO, a device, /proc/..., uncreatable), created
+// with its missing parents, rid of the temporaries of killed runs in it and in `subfolders`
+// (created too), and each of `files` (names relative to it) checked as check_output_file
+// checks an output against `inputs`. Every command with a folder output calls this one.
+void prepare_output_folder(const std::string& folder, const std::vector<std::string>& subfolders,
+                           const std::vector<std::string>& files, const std::vector<std::string>& inputs,
+                           const std::string& option = "-o");
+
 // Removes, saying so, the temporaries of killed runs (AtomicOutput's "FILE.partial-PID") found
 // directly in `folder` whose processes no longer run.
 void remove_stale_temporaries_in(const std::string& folder);

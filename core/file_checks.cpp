@@ -98,19 +98,37 @@ std::string check_output_file(const std::string& path, const std::vector<std::st
 void check_output_folder(const std::string& path, const std::string& option) {
   auto fail = [&](const std::string& problem) -> void { throw FileError(path, "", problem + " (" + option + ")"); };
   if (path.empty()) throw FileError("''", "", "empty folder name (" + option + ")");
+  // access() says yes to root almost everywhere (/proc, /sys): the only sure test of "can
+  // something be made here" is making it, a probe named after this process, removed at once.
+  const std::string probe_name = ".yarnhom-probe-" + std::to_string(::getpid());
   struct stat st;
   if (::stat(path.c_str(), &st) == 0) {
     if (!S_ISDIR(st.st_mode)) fail("is " + file_kind(st.st_mode) + ", not a folder");
     if (::access(path.c_str(), W_OK | X_OK) != 0) fail(std::string("cannot write in this folder: ") + std::strerror(errno));
+    const std::string probe = (fs::path(path) / probe_name).string();
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) fail(std::string("cannot create a file in this folder: ") + std::strerror(errno));
+    if (fd >= 0) {
+      ::close(fd);
+      ::unlink(probe.c_str());
+    }
     return;
   }
+  if (errno != ENOENT && errno != ENOTDIR) fail(std::string("cannot reach it: ") + std::strerror(errno));
   // Missing: it (and missing parents) will be created below the nearest existing ancestor.
   fs::path p = fs::absolute(path).lexically_normal();
   while (p.has_parent_path() && p != p.parent_path()) {
     p = p.parent_path();
-    if (::stat(p.c_str(), &st) != 0) continue;
+    if (::stat(p.c_str(), &st) != 0) {
+      if (errno != ENOENT && errno != ENOTDIR) fail("cannot reach " + p.string() + ": " + std::strerror(errno));
+      continue;
+    }
     if (!S_ISDIR(st.st_mode)) fail(p.string() + " is " + file_kind(st.st_mode) + ", not a folder");
     if (::access(p.c_str(), W_OK | X_OK) != 0) fail("cannot create it in " + p.string() + ": " + std::strerror(errno));
+    const std::string probe = (p / probe_name).string();
+    if (::mkdir(probe.c_str(), 0755) != 0 && errno != EEXIST)
+      fail("cannot create it in " + p.string() + ": " + std::strerror(errno));
+    ::rmdir(probe.c_str());
     return;
   }
   fail("cannot find an existing folder to create it in");

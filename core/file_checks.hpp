@@ -28,8 +28,12 @@ void check_input_file(const std::string& path, const std::string& what = "");
 std::string check_output_file(const std::string& path, const std::vector<std::string>& inputs,
                               const std::string& option = "-o");
 
-// An output folder (pipeline's and plot's -o): refused when it exists and is not a folder, or
-// when it does not exist and cannot be created (its parent is missing or not writable).
+// An output folder (the -o of sim, strip, accuracy, study, pipeline, plot): refused when it
+// exists and is not a folder (a file, a FIFO, a device), or no file can be created in it, or
+// when it does not exist and cannot be created (its nearest existing ancestor is not a folder
+// or takes no new folder: /proc, a read-only file system). Both are tried by making a probe
+// (removed at once), since access() says yes to root almost everywhere. Creates nothing.
+// core/console.hpp's prepare_output_folder also creates it and checks the files in it.
 void check_output_folder(const std::string& path, const std::string& option = "-o");
 
 // The kind of a non-regular file for messages: "a directory", "a FIFO", "a character

@@ -1,5 +1,6 @@
 #include "io/json_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,15 +10,99 @@
 
 namespace yarnhom::io {
 
+namespace {
+
+// nlohmann's DOM builder, told where it is: the key path of the value being read ("a.b[2]"),
+// so that a number the parser refuses (1e999 overflows a double) or a syntax error names the
+// key. Nesting is bounded (a hostile file of a million brackets).
+class KeyedDomParser : public nlohmann::detail::json_sax_dom_parser<json> {
+ public:
+  using Base = nlohmann::detail::json_sax_dom_parser<json>;
+  KeyedDomParser(json& root, const std::string& file) : Base(root, true), file_(file) {}
+
+  bool null() { return begin_value() && Base::null(); }
+  bool boolean(bool v) { return begin_value() && Base::boolean(v); }
+  bool number_integer(number_integer_t v) { return begin_value() && Base::number_integer(v); }
+  bool number_unsigned(number_unsigned_t v) { return begin_value() && Base::number_unsigned(v); }
+  bool number_float(number_float_t v, const string_t& s) { return begin_value() && Base::number_float(v, s); }
+  bool string(string_t& v) { return begin_value() && Base::string(v); }
+  bool binary(binary_t& v) { return begin_value() && Base::binary(v); }
+  bool start_object(std::size_t n) { return begin_value() && push(false) && Base::start_object(n); }
+  bool start_array(std::size_t n) { return begin_value() && push(true) && Base::start_array(n); }
+  bool key(string_t& k) {
+    frames_.back().key = k;
+    return Base::key(k);
+  }
+  bool end_object() {
+    frames_.pop_back();
+    return Base::end_object();
+  }
+  bool end_array() {
+    frames_.pop_back();
+    return Base::end_array();
+  }
+  template <class Exception>
+  bool parse_error(std::size_t, const std::string&, const Exception& e) {
+    const std::string where = path(true);
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0 && what.find("] ") != std::string::npos)
+      what = what.substr(what.find("] ") + 2);  // the library's own tag: not for users
+    const std::string problem = e.id == 406 ? what + ": a number must be finite (at most about 1.8e308)" : "not valid JSON: " + what;
+    throw std::invalid_argument(file_ + ": " + (where.empty() ? "" : "key '" + where + "': ") + problem);
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    std::string key;
+    long count = 0;  // arrays: elements begun
+  };
+  static constexpr size_t kMaxDepth = 256;
+
+  bool begin_value() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().count;
+    return true;
+  }
+  bool push(bool array) {
+    if (frames_.size() >= kMaxDepth)
+      throw std::invalid_argument(file_ + ": key '" + path(false) + "': nested deeper than " + std::to_string(kMaxDepth) +
+                                  " arrays and objects");
+    frames_.push_back({array, "", 0});
+    return true;
+  }
+  // The key path; `pending`: the innermost array's next element is the one being read.
+  std::string path(bool pending) const {
+    std::string p;
+    for (size_t k = 0; k < frames_.size(); ++k) {
+      const Frame& f = frames_[k];
+      if (f.array) {
+        const long i = (pending && k + 1 == frames_.size()) ? f.count : f.count - 1;
+        p += "[" + std::to_string(std::max(0L, i)) + "]";
+      } else if (!f.key.empty()) {
+        p += (p.empty() ? "" : ".") + f.key;
+      }
+    }
+    return p;
+  }
+
+  std::string file_;
+  std::vector<Frame> frames_;
+};
+
+}  // namespace
+
 json read_json_file(const std::string& path) {
   check_input_file(path);  // a FIFO would block the reader
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open");
+  json result;
+  KeyedDomParser sax(result, path);
   try {
-    return json::parse(in);
-  } catch (const json::parse_error& e) {
+    json::sax_parse(in, &sax);
+  } catch (const json::exception& e) {  // what the DOM builder itself throws (sizes)
     throw std::invalid_argument(path + ": not valid JSON: " + e.what());
   }
+  return result;
 }
 
 void JsonReader::fail(const std::string& key, const std::string& problem) const {

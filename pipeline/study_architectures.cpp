@@ -11,6 +11,7 @@
 
 #include "core/console.hpp"
 #include "core/dataset.hpp"
+#include "core/file_checks.hpp"
 #include "pipeline/child_process.hpp"
 #include "pipeline/python_env.hpp"
 #include "pipeline/study.hpp"
@@ -105,6 +106,7 @@ std::string write_table(const ArchitecturesOptions& o, const Term& term, const s
 }  // namespace
 
 int run_study_architectures(const ArchitecturesOptions& o) {
+  check_output_folder(o.out);  // before any work: a file, a FIFO, /dev/null, /proc/...
   const Dataset ds = read_dataset(o.dataset);
   const Term term = term_by_name(o.term);
   if (!ds.find(term.name)) throw std::invalid_argument(o.dataset + ": the dataset has no term '" + term.name + "'");

@@ -16,6 +16,8 @@ namespace {
 
 using json = io::json;
 
+constexpr double kMaxRectangleQuads = 4e6;  // 2000 x 2000, the built-in scenes' largest --resolution
+
 struct Reader : io::JsonReader {
   // An object whose keys are exactly `a` and `b`.
   const json& both(const json& j, const std::string& key, const char* a, const char* b) const {
@@ -63,8 +65,13 @@ void read_mesh(const Reader& r, const json& j, Scene& s) {
     r.only(rc, "mesh.rectangle", {"width", "height", "nx", "ny"});
     for (const char* k : {"width", "height", "nx", "ny"})
       if (!rc.contains(k)) r.fail(std::string("mesh.rectangle.") + k, "missing");
-    s.mesh = make_rectangle(r.positive(rc["width"], "mesh.rectangle.width"), r.positive(rc["height"], "mesh.rectangle.height"),
-                            r.integer(rc["nx"], "mesh.rectangle.nx", 1), r.integer(rc["ny"], "mesh.rectangle.ny", 1));
+    const double width = r.positive(rc["width"], "mesh.rectangle.width"), height = r.positive(rc["height"], "mesh.rectangle.height");
+    const int nx = r.integer(rc["nx"], "mesh.rectangle.nx", 1), ny = r.integer(rc["ny"], "mesh.rectangle.ny", 1);
+    // Bounded before anything is allocated (1e8 x 1e8 quads ran out of memory).
+    if (double(nx) * double(ny) > kMaxRectangleQuads)
+      r.fail("mesh.rectangle", "nx x ny = " + std::to_string(nx) + " x " + std::to_string(ny) + " quads; at most " +
+                                   std::to_string(long(kMaxRectangleQuads)) + " (nx ny <= 4e6, 8 million triangles)");
+    s.mesh = make_rectangle(width, height, nx, ny);
   } else {
     r.fail("mesh", "give {\"obj\": FILE} or {\"rectangle\": {...}}");
   }

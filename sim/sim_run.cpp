@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/console.hpp"
+#include "core/file_checks.hpp"
 #include "core/heap_policy.hpp"
 #include "core/number_list.hpp"
 #include "material/material_source.hpp"
@@ -65,6 +66,16 @@ StretchSize stretch_size(const SimRunOptions& o) {
       throw std::invalid_argument("--size " + o.size + ": expected WIDTH,LENGTH in metres, both positive");
     size.width = wl[0];
     size.length = wl[1];
+    // The strip's quads (sim/scene.cpp: --resolution, else one per 5 mm, across; square along),
+    // bounded before the mesh is allocated (--size 1e9,1e9 ran out of memory).
+    const double across = o.resolution > 0 ? o.resolution : std::max(2.0, std::round(wl[0] / 0.005));
+    const double quads = across * std::max(1.0, std::round(across * wl[1] / wl[0]));
+    if (!(quads <= 4e6)) {
+      char buf[300];
+      std::snprintf(buf, sizeof buf, "--size %s: the strip would have %.3g quads (%.3g across, square along); at most 4e6 "
+                    "(a quad per 5 mm across, or --resolution)", o.size.c_str(), quads, across);
+      throw std::invalid_argument(buf);
+    }
   }
   if (!o.stretch.empty()) {
     const std::vector<double> r = parse_stretch_range(o.stretch);
@@ -196,9 +207,50 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
   }
 }
 
+// The output folder, once the inputs are read: created, its temporaries of killed runs removed,
+// its files checked (no FIFO, device or input among them), and what an earlier run wrote there
+// removed, saying so in one line: its frames, renders and force curve (a shorter rerun left
+// frame_0005..0012.obj beside the new steps.csv). Only the names sim writes are touched.
+void prepare_sim_folder(const SimRunOptions& o, const Scene& s, const std::string& mpath) {
+  std::vector<std::string> inputs = {mpath};
+  if (fs::is_regular_file(o.scene)) inputs.push_back(o.scene);
+  prepare_output_folder(o.out, {"frames"}, {"steps.csv", "stretch.csv", "scene_info.json"}, inputs);
+  if (fs::is_directory(fs::path(o.out) / "renders")) remove_stale_temporaries_in((fs::path(o.out) / "renders").string());
+  auto numbered = [](const fs::path& f, const char* ext) {
+    const std::string n = f.filename().string(), e = ext;
+    if (n.size() <= 6 + e.size() || n.compare(0, 6, "frame_") != 0 || n.compare(n.size() - e.size(), e.size(), e) != 0)
+      return -1;
+    const std::string digits = n.substr(6, n.size() - 6 - e.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+    return std::stoi(digits);
+  };
+  int frames = 0, beyond = 0, renders = 0;
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (const char* sub : {"frames", "renders"}) {
+    const bool obj = std::string(sub) == "frames";
+    for (const auto& e : fs::directory_iterator(fs::path(o.out) / sub, ec)) {
+      const int k = numbered(e.path(), obj ? ".obj" : ".png");
+      if (k < 0 || !e.is_regular_file() || !fs::remove(e.path(), ec)) continue;
+      (obj ? frames : renders)++;
+      if (obj && (o.no_frames || k > s.frames)) ++beyond;
+    }
+  }
+  for (const char* f : {"stretch.csv", "stretch.png", "steps.csv", "scene_info.json"})
+    if (fs::is_regular_file(fs::path(o.out) / f) && fs::remove(fs::path(o.out) / f, ec) && std::string(f).find("stretch") == 0)
+      files.push_back(f);
+  if (frames + renders == 0 && files.empty()) return;
+  std::string what = std::to_string(frames) + " frame OBJ(s)";
+  if (beyond) what += " (" + std::to_string(beyond) + (o.no_frames ? " with --no-frames" : " beyond this run's " + std::to_string(s.frames)) + ")";
+  if (renders) what += ", " + std::to_string(renders) + " render(s)";
+  for (const std::string& f : files) what += ", " + f;
+  std::fprintf(stderr, "sim: %s held an earlier run's outputs: removed %s\n", o.out.c_str(), what.c_str());
+}
+
 }  // namespace
 
 SimRunOutcome run_sim(const SimRunOptions& o) {
+  check_output_folder(o.out);  // before any work: a file, a FIFO, /dev/null, /proc/... (created below)
   const Scene s = make_scene(o);
   const std::string mpath = o.material.empty() ? s.material : o.material;
   if (mpath.empty()) throw std::invalid_argument("no material: give --material BAKED.h5 (or a HYLC material JSON)");
@@ -215,7 +267,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   set.eigen_filter = o.eigen_filter == "clamp" ? numerics::EigenFilter::Clamp : numerics::EigenFilter::Abs;
   set.profile = o.profile;
   set.write_frames = !o.no_frames;
-  fs::create_directories(o.out);
+  prepare_sim_folder(o, s, mpath);
   write_scene_info(o.out, s);
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   std::fprintf(stderr,

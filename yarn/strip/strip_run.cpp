@@ -77,6 +77,22 @@ void write_force_csv(const fs::path& dir, const std::vector<StretchStep>& done, 
   write_text_file((dir / "force.csv").string(), csv);
 }
 
+// A strip holds about width x length / (px py) tiles of the pattern's vertices (plus the
+// bind-off rows and connectors): bounded before anything is allocated (1e9 x 1e9 m ran out of
+// memory after the rest relaxation).
+constexpr double kMaxStripVertices = 1e6;
+void check_strip_size(const Pattern& p, double width, double length) {
+  const double tiles = (width / p.py + 3) * (length / p.px + 3);  // either direction: the same area
+  const double vertices = tiles * p.size();
+  if (vertices <= kMaxStripVertices) return;
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "--size %g,%g: the strip would hold about %.3g yarn vertices (%.3g tiles of %s's %d-vertex %.4g x %.4g m "
+                "period); at most %.0f (width x length / (px py) x vertices per tile)",
+                width, length, vertices, tiles, p.name.c_str(), p.size(), p.px, p.py, kMaxStripVertices);
+  throw std::invalid_argument(buf);
+}
+
 // The options checked, and what the run is.
 struct StripSetup {
   std::vector<double> size, stretches;
@@ -110,6 +126,7 @@ StripSetup validate(const StripRunOptions& o) {
   // extends a finished run). The pattern by its content (FNV-1a of its canonical text), so that
   // the same file reached by another path resumes and an edited one does not.
   s.raw = load_pattern(o.pattern);
+  check_strip_size(s.raw, s.size[0], s.size[1]);
   uint64_t digest = 1469598103934665603ull;
   for (unsigned char c : format_pyp(s.raw)) digest = (digest ^ c) * 1099511628211ull;
   std::ostringstream set;
@@ -135,17 +152,12 @@ void prepare_run_folder(const StripRunOptions& o, const std::string& settings) {
     fs::remove(dir / "force.csv");
     fs::remove(dir / "settings.txt");
   }
-  for (const fs::path& sub : {dir, dir / "steps", dir / "centrelines"}) {
-    check_output_folder(sub.string(), "-o");
-    fs::create_directories(sub);
-  }
-  for (const fs::path& sub : {dir, dir / "steps", dir / "centrelines"}) remove_stale_temporaries_in(sub.string());
   // The files written below must be writable regular files (not folders, devices, FIFOs) and
   // none of the inputs.
   std::vector<std::string> inputs;
   if (fs::exists(o.pattern)) inputs.push_back(o.pattern);
   if (!o.material.empty()) inputs.push_back(o.material);
-  for (const char* f : {"settings.txt", "force.csv", "strip.obj"}) check_output_file((dir / f).string(), inputs, "-o");
+  prepare_output_folder(o.out, {"steps", "centrelines"}, {"settings.txt", "force.csv", "strip.obj"}, inputs);
   if (!fs::exists(dir / "settings.txt")) {
     write_text_file((dir / "settings.txt").string(), settings);
     return;

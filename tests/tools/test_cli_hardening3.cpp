@@ -1,0 +1,110 @@
+// Issue 32 items 5 and 9: clean one-line refusals instead of library texts (std::bad_alloc for
+// huge scene rectangles and strips, the JSON library's text for a number that overflows a
+// double, "filesystem error" for -o naming a file, a FIFO, /dev/null or /proc/...), and a sim
+// rerun into a folder of an earlier run removes what that run wrote and this one does not.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/common/run_cli.hpp"
+#include "tests/common/small_files.hpp"
+
+namespace fs = std::filesystem;
+using yarnhom::test::run_cli_limited;
+
+namespace {
+
+bool refused(int status) { return status != 0 && status < 128; }
+
+// Refused within 5 s, in one line "yarnhom: error: ..." naming each of `words`, without a
+// library's text.
+void expect_clean_refusal(const std::string& args, const std::vector<std::string>& words) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto r = run_cli_limited(args, 30);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(refused(r.status)) << r.status << " " << args << "\n" << r.out;
+  EXPECT_LT(s, 5.0) << args;
+  for (const std::string& w : words) EXPECT_NE(r.out.find(w), std::string::npos) << args << ": no '" << w << "'\n" << r.out;
+  for (const char* lib : {"bad_alloc", "filesystem error", "json.exception", "basic_filebuf", "what()"})
+    EXPECT_EQ(r.out.find(lib), std::string::npos) << args << ": library text '" << lib << "'\n" << r.out;
+  EXPECT_EQ(r.out.find("yarnhom: error: "), r.out.rfind("yarnhom: error: ")) << args << ": more than one error\n" << r.out;
+}
+
+std::string pattern_file() {
+  const fs::path p = fs::path(YARNHOM_SOURCE_DIR) / ".." / "shared" / "patterns" / "stocktiny.pyp";
+  return fs::exists(p) ? p.string() : "stockinette";
+}
+
+}  // namespace
+
+TEST(Hardening3, HugeSizesAndOverflowingNumbersAreRefusedWithTheRuleNamingFileAndKey) {
+  yarnhom::test::TempDir d("h3_sizes");
+  const std::string baked = yarnhom::test::write_small_files(d).baked;
+  std::ofstream(d / "big.json") << R"({"mesh": {"rectangle": {"width": 1, "height": 1, "nx": 100000000, "ny": 100000000}}})";
+  expect_clean_refusal("sim " + d / "big.json -o " + d / "o -q --material " + baked,
+                       {d / "big.json", "mesh.rectangle", "at most 4000000"});
+  std::ofstream(d / "inf.json") << R"({"mesh": {"rectangle": {"width": 1e999, "height": 1, "nx": 2, "ny": 2}}})";
+  expect_clean_refusal("sim " + d / "inf.json -o " + d / "o -q --material " + baked,
+                       {d / "inf.json", "mesh.rectangle.width", "1e999", "finite"});
+  std::ofstream(d / "inf2.json") << R"({"mesh": {"rectangle": {"width": 1, "height": 1, "nx": 2, "ny": 2}},)"
+                                 << R"( "colliders": [{"plane": {"point": [0, 0, 0]}}, {"sphere": {"center": [0, 0, -1e999], "radius": 1}}]})";
+  expect_clean_refusal("sim " + d / "inf2.json -o " + d / "o -q --material " + baked,
+                       {d / "inf2.json", "colliders[1].sphere.center[2]"});
+  std::ofstream(d / "deep.json") << std::string(100000, '[') << std::string(100000, ']');
+  expect_clean_refusal("sim " + d / "deep.json -o " + d / "o -q --material " + baked, {d / "deep.json", "nested deeper"});
+  fs::create_directories(d / "folder.json");
+  expect_clean_refusal("sim " + d / "folder.json -o " + d / "o -q --material " + baked, {d / "folder.json", "directory"});
+  expect_clean_refusal("sim stretch --size 1e9,1e9 -o " + d / "o -q --material " + baked, {"--size", "at most 4e6"});
+  expect_clean_refusal("strip " + pattern_file() + " --size 1e9,1e9 --no-plots -o " + d / "o",
+                       {"--size", "yarn vertices", "at most 1000000"});
+  EXPECT_FALSE(fs::exists(d / "o"));
+}
+
+TEST(Hardening3, OutputFoldersThatAreFilesOrCannotBeMadeAreRefusedInOneLine) {
+  yarnhom::test::TempDir d("h3_outputs");
+  const auto f = yarnhom::test::write_small_files(d);
+  std::ofstream(d / "file") << "x";
+  ASSERT_EQ(::mkfifo((d / "fifo").c_str(), 0644), 0);
+  std::vector<std::pair<std::string, std::string>> outs = {
+      {d / "file", "regular file"}, {d / "fifo", "FIFO"}, {"/dev/null", "character device"}, {d / "file/sub", "not a folder"}};
+  if (fs::is_directory("/proc/self")) outs.push_back({"/proc/yarnhom-no-such/out", "cannot create"});
+  const std::string pat = pattern_file();
+  for (const auto& [out, why] : outs) {
+    for (const std::string& cmd :
+         {"sim hang -q --frames 1 --material " + f.baked + " -o " + out, "strip " + pat + " --no-plots -o " + out,
+          "accuracy " + pat + " --direction course -o " + out, "study table5 " + pat + " -o " + out,
+          "study strip-width " + pat + " -o " + out, "study rve-size " + f.pattern + " -o " + out,
+          "study architectures " + f.dataset + " --no-plot -o " + out, "pipeline " + pat + " -o " + out})
+      expect_clean_refusal(cmd, {out, why, "(-o)"});
+  }
+  EXPECT_EQ(std::ifstream(d / "file").get(), 'x');
+}
+
+TEST(Hardening3, SimRerunRemovesWhatTheEarlierRunWroteAndThisOneDoesNot) {
+  yarnhom::test::TempDir d("h3_rerun");
+  const std::string baked = yarnhom::test::write_small_files(d).baked;
+  const std::string out = d / "run", base = "sim hang -q --resolution 3 --render none --density 0.3 --material " + baked + " -o " + out;
+  auto r = run_cli_limited(base + " --frames 6", 60);
+  ASSERT_EQ(r.status, 0) << r.out;
+  ASSERT_TRUE(fs::exists(out + "/frames/frame_0006.obj"));
+  // A killed run's temporary and a file of the user's.
+  std::ofstream(out + "/frames/frame_0003.obj.partial-999999999") << "half";
+  std::ofstream(out + "/notes.txt") << "mine";
+  r = run_cli_limited(base + " --frames 2", 60);
+  ASSERT_EQ(r.status, 0) << r.out;
+  for (int k = 0; k <= 2; ++k) EXPECT_TRUE(fs::exists(out + "/frames/frame_000" + std::to_string(k) + ".obj")) << k;
+  for (int k = 3; k <= 6; ++k) EXPECT_FALSE(fs::exists(out + "/frames/frame_000" + std::to_string(k) + ".obj")) << k;
+  EXPECT_FALSE(fs::exists(out + "/frames/frame_0003.obj.partial-999999999"));
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));
+  EXPECT_NE(r.out.find("earlier run"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("4 beyond this run's 2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frame_0003.obj.partial-999999999"), std::string::npos) << r.out;
+  // --no-frames: no frame of the earlier run is left to be taken for this one's.
+  r = run_cli_limited(base + " --frames 2 --no-frames", 60);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_FALSE(fs::exists(out + "/frames/frame_0000.obj"));
+}
