@@ -1,4 +1,4 @@
-// Issue 32 items 5 and 9: clean one-line refusals instead of library texts (std::bad_alloc for
+// Issue 32 items 5, 8 and 9: clean one-line refusals instead of library texts (std::bad_alloc for
 // huge scene rectangles and strips, the JSON library's text for a number that overflows a
 // double, "filesystem error" for -o naming a file, a FIFO, /dev/null or /proc/...), and a sim
 // rerun into a folder of an earlier run removes what that run wrote and this one does not.
@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <iterator>
 
 #include "tests/common/run_cli.hpp"
 #include "tests/common/small_files.hpp"
@@ -107,4 +108,30 @@ TEST(Hardening3, SimRerunRemovesWhatTheEarlierRunWroteAndThisOneDoesNot) {
   r = run_cli_limited(base + " --frames 2 --no-frames", 60);
   ASSERT_EQ(r.status, 0) << r.out;
   EXPECT_FALSE(fs::exists(out + "/frames/frame_0000.obj"));
+}
+
+// Issue 32 item 8: a train-all that fails (a network's loss became non-finite: exit 2) leaves
+// the previous model as it was; the networks that trained go to STEM.failed.h5 beside it.
+TEST(Hardening3, FailedTrainAllLeavesThePreviousModelAsItWas) {
+  yarnhom::test::TempDir d("h3_train");
+  const std::string ds = d / "synth.h5", out = d / "model.h5";
+  ASSERT_EQ(run_cli_limited("synth --preset quick -o " + ds, 60).status, 0);
+  auto r = run_cli_limited("train-all " + ds + " -o " + out + " -q --epochs 2 --terms 0,02 --threads 2", 60);
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream in(out, std::ios::binary);
+  const std::string before((std::istreambuf_iterator<char>(in)), {});
+  // --lr 1e12 for 5 epochs: 2 of the 14 networks end non-finite, the others train.
+  r = run_cli_limited("train-all " + ds + " -o " + out + " -q --epochs 5 --polish 0 --lr 1e12 --threads 2", 60);
+  EXPECT_EQ(r.status, 2) << r.out;
+  std::ifstream again(out, std::ios::binary);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), before) << "the previous model was replaced";
+  EXPECT_NE(r.out.find("left as it was"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(d / "model.failed.h5")) << r.out;
+  for (const auto& e : fs::directory_iterator(d.dir))
+    EXPECT_EQ(e.path().string().find(".partial-"), std::string::npos) << e.path();
+  // Every network failing: nothing written, the previous model kept.
+  r = run_cli_limited("train-all " + ds + " -o " + out + " -q --epochs 5 --polish 0 --lr 1e30 --terms 0 --threads 2", 60);
+  EXPECT_EQ(r.status, 2) << r.out;
+  std::ifstream third(out, std::ios::binary);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(third)), {}), before);
 }

@@ -1,4 +1,9 @@
 // yarnhom train-all / train: fit one MLP per energy term (train/train_run.hpp).
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "core/atomic_file.hpp"
 #include "tools/cli/cli_util.hpp"
 #include "train/train_run.hpp"
 
@@ -134,6 +139,41 @@ void add_common(CLI::App* cmd, TrainRunOptions& o) {
   add_quiet_flag(cmd, o.quiet, "No live progress, only the final table");
 }
 
+// A failed run leaves the previous model as it was: the model goes to a temporary beside -o
+// (AtomicOutput's name, which the next write of -o removes if this process is killed) and is
+// renamed over -o only when every network trained. When some failed (exit 2), the networks
+// that trained are kept in STEM.failed.h5 beside it, saying so.
+int train_keeping_previous(TrainRunOptions o, const std::set<std::string>& given) {
+  namespace fs = std::filesystem;
+  const std::string target = prepare_output(o.out, {o.dataset});
+  const std::string out = o.out;
+  o.out = AtomicOutput::temporary_name(target, ::getpid());
+  int status = 0;
+  try {
+    status = run_training(o, given);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(o.out, ec);
+    throw;
+  }
+  std::error_code ec;
+  if (status == 0) {
+    fs::rename(o.out, target);
+    std::printf("renamed to %s\n", out.c_str());
+    return 0;
+  }
+  if (fs::exists(o.out)) {
+    const fs::path t(target);
+    const fs::path failed = t.parent_path() / (t.stem().string() + ".failed" + t.extension().string());
+    fs::rename(o.out, failed, ec);
+    if (ec) fs::remove(o.out, ec);
+    else std::fprintf(stderr, "yarnhom: the networks that trained are in %s\n", failed.string().c_str());
+  }
+  std::fprintf(stderr, "yarnhom: %s %s\n", out.c_str(),
+               fs::exists(target) ? "left as it was (this run failed)" : "not written (this run failed)");
+  return status;
+}
+
 }  // namespace
 
 void register_train(CLI::App& app) {
@@ -143,13 +183,13 @@ void register_train(CLI::App& app) {
       ->check(term_list_validator())
       ->capture_default_str();
   CLI::App* all_cmd = all;
-  all->callback([oa, all_cmd] { exit_with(run_training(*oa, given_options(*all_cmd))); });
+  all->callback([oa, all_cmd] { exit_with(train_keeping_previous(*oa, given_options(*all_cmd))); });
 
   auto [one, o1] = add_command<TrainRunOptions>(app, "train");
   add_common(one, *o1);
   one->add_option("--term", o1->term, "The term, e.g. 02")->required()->check(term_list_validator(true));
   CLI::App* one_cmd = one;
-  one->callback([o1, one_cmd] { exit_with(run_training(*o1, given_options(*one_cmd))); });
+  one->callback([o1, one_cmd] { exit_with(train_keeping_previous(*o1, given_options(*one_cmd))); });
 }
 
 }  // namespace yarnhom::tools
