@@ -18,6 +18,9 @@
 
 namespace yarnhom {
 
+struct PolishOptions;  // train/polish.hpp
+struct PolishResult;
+
 // One network's training problem, in normalized units (float, row-major).
 struct NetworkJob {
   std::string name;
@@ -67,6 +70,17 @@ class Backend {
                          std::vector<EpochStats>& stats) = 0;
   // The current weights of network j.
   virtual std::vector<float> params(int j) = 0;
+  // The full-batch polish after the epochs (train/polish.hpp) of the networks `which` of the run,
+  // on this backend's device: params[j] is polished in place and results[j] filled for every j
+  // it takes; it returns, per entry of `which`, whether it took it (the trainer polishes the
+  // others with polish_network on the CPU). The CPU backend takes none; the CUDA backend takes
+  // every network its kernel supports (train/cuda_polish.hpp), all in one launch.
+  virtual std::vector<char> polish(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg,
+                                   const PolishOptions& opt, const std::vector<int>& which,
+                                   std::vector<std::vector<float>>& params, std::vector<PolishResult>& results) {
+    (void)jobs, (void)cfg, (void)opt, (void)params, (void)results;
+    return std::vector<char>(which.size(), 0);
+  }
 };
 
 // "cpu", or "cuda" when built with CUDA; throws std::invalid_argument naming the choices.

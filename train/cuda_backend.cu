@@ -35,6 +35,7 @@
 #include "cuda/check.cuh"
 #include "cuda/jet_block.cuh"
 #include "train/cuda_backend.hpp"
+#include "train/cuda_polish.hpp"
 #include "train/epoch_plan.hpp"
 
 namespace yarnhom {
@@ -389,6 +390,24 @@ class CudaBackend final : public Backend {
       set(st.val, o.val);
       st.seconds = sec;  // all networks ran concurrently in this one launch
     }
+  }
+
+  // The polish on the device (train/cuda_polish.cu): every supported network in one launch.
+  // YARNHOM_CUDA_POLISH=cpu leaves it to the CPU (for comparisons).
+  std::vector<char> polish(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg, const PolishOptions& opt,
+                           const std::vector<int>& which, std::vector<std::vector<float>>& params,
+                           std::vector<PolishResult>& results) override {
+    std::vector<char> took(which.size(), 0);
+    const char* env = std::getenv("YARNHOM_CUDA_POLISH");
+    if (env && std::strcmp(env, "cpu") == 0) return took;
+    std::vector<int> mine;
+    for (size_t i = 0; i < which.size(); ++i)
+      if (cuda_polish_supports(jobs[which[i]], cfg, opt)) {
+        took[i] = 1;
+        mine.push_back(which[i]);
+      }
+    cuda_polish_networks(jobs, cfg, opt, mine, params, results);
+    return took;
   }
 
   std::vector<float> params(int j) override {

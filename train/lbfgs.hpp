@@ -184,25 +184,29 @@ inline LbfgsResult lbfgs_minimize(Eigen::VectorXd& x, const LbfgsObjective& fg, 
         break;
       }
     }
-    // Accept: update the history with (s, y).
-    Vec s = xt - x, y = gt - g;
-    const double sy = s.dot(y);
-    const double f_old = f;
-    x = xt;
-    g = gt;
-    f = fa;
-    res.f = f;
-    res.iterations = k + 1;
-    if (sy > 1e-12 * s.norm() * y.norm()) {
+    // Accept: update the history with (s, y) (the oldest pair's vectors reused: no allocation).
+    const double sy = (xt - x).dot(gt - g);
+    if (sy > 1e-12 * (xt - x).norm() * (gt - g).norm()) {
+      Vec s, y;
       if (int(S.size()) == opt.memory) {
+        s = std::move(S.front());
+        y = std::move(Y.front());
         S.pop_front();
         Y.pop_front();
         rho.pop_front();
       }
+      s = xt - x;
+      y = gt - g;
       S.push_back(std::move(s));
       Y.push_back(std::move(y));
       rho.push_back(1.0 / sy);
     }
+    const double f_old = f;
+    x.swap(xt);
+    g.swap(gt);
+    f = fa;
+    res.f = f;
+    res.iterations = k + 1;
     if (on_iterate && !on_iterate(k + 1, x, f)) {
       res.stop = "stopped by the observer";
       break;

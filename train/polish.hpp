@@ -8,8 +8,9 @@
 // lacks once the loss is small: on the yarn data it lowers the validation loss by orders of
 // magnitude where hundreds more epochs do not (docs/training.md, "The default recipe").
 //
-// Runs on the CPU whatever backend trained the epochs (the CUDA backend hands its weights
-// over; the polish is a few seconds per network at most).
+// With the CUDA backend the polish runs on the GPU (train/cuda_polish.hpp: the same algorithm,
+// every network in one launch); polish_network is the CPU's, on the fused kernel of the epochs
+// (cpu::mlp_loss_grad).
 #include <string>
 #include <vector>
 

@@ -142,7 +142,7 @@ int run_training(const TrainRunOptions& o, const std::set<std::string>& given) {
                              (opt.polish.iterations_1d >= 0 && opt.polish.iterations_1d != polish
                                   ? " (" + std::to_string(opt.polish.iterations_1d) + " for the 1D terms)"
                                   : std::string()) +
-                             " (CPU)").c_str()
+                             (backend->name() == "cuda" ? " (GPU)" : " (CPU)")).c_str()
                           : "");
   Progress progress(o.quiet);
   const double t0 = omp_get_wtime();

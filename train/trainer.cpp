@@ -206,10 +206,16 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
       return double(jobs[a].n_train) * (jobs[a].desc.input_dim == 1 ? 4 : 10) >
              double(jobs[b].n_train) * (jobs[b].desc.input_dim == 1 ? 4 : 10);
     });
-    const int T = std::max(1, std::min<int>(opt.config.threads, int(todo.size())));
+    // The backend's device takes what it can (the CUDA backend: all of the default recipe's
+    // networks in one launch); the CPU polishes the rest, one network per thread.
+    const std::vector<char> took = backend.polish(jobs, opt.config, opt.polish, todo, final_params, res.polish);
+    std::vector<int> host;
+    for (size_t i = 0; i < todo.size(); ++i)
+      if (!took[i]) host.push_back(todo[i]);
+    const int T = std::max(1, std::min<int>(opt.config.threads, int(host.size())));
 #pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-    for (size_t i = 0; i < todo.size(); ++i) {
-      const int j = todo[i];
+    for (size_t i = 0; i < host.size(); ++i) {
+      const int j = host[i];
       res.polish[j] = polish_network(jobs[j], opt.config, opt.polish, final_params[j]);
     }
     for (int j : todo) {
