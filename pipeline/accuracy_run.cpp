@@ -10,6 +10,7 @@
 
 #include "accuracy/box_reach.hpp"
 #include "core/baked.hpp"
+#include "core/dataset.hpp"
 #include "core/file_checks.hpp"
 #include "core/number_list.hpp"
 #include "core/text_file.hpp"
@@ -260,6 +261,22 @@ std::string accuracy_csv(const AccuracyResult& r) {
 }
 
 }  // namespace
+
+void check_accuracy_options(const AccuracyOptions& o) {
+  const std::vector<double> ratios = parse_stretch_range(o.stretch);
+  if (ratios.size() < 2 || std::abs(ratios.front() - 1.0) > 1e-9)
+    throw std::invalid_argument("--stretch " + o.stretch + ": the test starts at the relaxed 100 %; give 1.0:LAST:STEP");
+  if (!o.baked.empty()) {
+    if (!is_baked_file(o.baked))
+      throw std::invalid_argument("--baked " + o.baked + ": not a yarnhom baked file (yarnhom bake writes one; a dataset "
+                                  "goes to --dataset)");
+    read_baked(o.baked);
+  }
+  if (!o.dataset.empty()) {
+    if (is_baked_file(o.dataset)) throw std::invalid_argument("--dataset " + o.dataset + ": a baked file, not a dataset (give it as --baked)");
+    read_dataset(o.dataset);
+  }
+}
 
 AccuracyResult run_accuracy(const AccuracyOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -45,6 +45,12 @@ struct AccuracyResult {
   double seconds = 0;
 };
 
+// The test's own options checked before any stage: --stretch a range from the relaxed 1.0,
+// --dataset a dataset, --baked a baked file (a dataset given as --baked used to run for 20 s
+// first). Throws std::invalid_argument naming the option and the value. The strip and sim
+// stages' options are checked by the commands' own parsers (tools/cli/accuracy_options.hpp).
+void check_accuracy_options(const AccuracyOptions& o);
+
 // Runs (or resumes) the test into o.out: accuracy.csv and accuracy.md.
 AccuracyResult run_accuracy(const AccuracyOptions& o);
 std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions& o);

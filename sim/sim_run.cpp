@@ -249,6 +249,11 @@ void prepare_sim_folder(const SimRunOptions& o, const Scene& s, const std::strin
 
 }  // namespace
 
+void check_sim_options(const SimRunOptions& o) {
+  if (!o.material.empty()) check_input_file(o.material, "--material");
+  make_scene(o);
+}
+
 SimRunOutcome run_sim(const SimRunOptions& o) {
   check_output_folder(o.out);  // before any work: a file, a FIFO, /dev/null, /proc/... (created below)
   const Scene s = make_scene(o);

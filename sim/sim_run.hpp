@@ -28,6 +28,11 @@ struct SimRunOutcome {
 // Runs the simulation into o.out (frames, steps.csv, stretch.csv, scene_info.json).
 SimRunOutcome run_sim(const SimRunOptions& o);
 
+// The checks run_sim makes of its options and scene before any work (the scene built with the
+// command line's overrides, --material a regular file when given), without running or writing
+// anything: what accuracy and the studies check before their first stage starts.
+void check_sim_options(const SimRunOptions& o);
+
 // 0, or 3 (saying why on stderr) when the run stopped on an unphysical strain or became
 // non-finite.
 int sim_exit_status(const SimRunOutcome& r);

@@ -135,3 +135,47 @@ TEST(Hardening3, FailedTrainAllLeavesThePreviousModelAsItWas) {
   std::ifstream third(out, std::ios::binary);
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(third)), {}), before);
 }
+
+// Issue 32 item 6: accuracy and the studies check their own options and those they pass to
+// their stages (strip, sim stretch) before the first stage starts: refused in well under a
+// second, naming the option and its value, nothing made.
+TEST(Hardening3, AccuracyAndStudiesRefuseBadOptionsBeforeTheFirstStage) {
+  yarnhom::test::TempDir d("h3_late");
+  const auto f = yarnhom::test::write_small_files(d);
+  const std::string pat = pattern_file(), out = d / "acc";
+  const std::string acc = "accuracy " + pat + " --direction course -o " + out + " ";
+  struct Case {
+    std::string args;
+    std::vector<std::string> words;
+  };
+  const std::vector<Case> cases = {
+      {acc + "--size 0,0.1", {"--size", "0,0.1"}},
+      {acc + "--size 1e9,1e9", {"--size", "at most"}},
+      {acc + "--stretch 1.0:0.5:0.1", {"--stretch", "1.0:0.5:0.1"}},
+      {acc + "--stretch 1.2:1.5:0.1", {"--stretch", "1.2:1.5:0.1"}},
+      {acc + "--stretch 1.0:99:0.1", {"--stretch", "1.0:99:0.1"}},
+      {"accuracy " + d / "missing.pyp" + " --direction course -o " + out, {d / "missing.pyp"}},
+      {acc + "--strip-args '--bogus'", {"--strip-args", "--bogus"}},
+      {acc + "--strip-args '--clamp 0.06'", {"--strip-args", "--clamp"}},
+      {acc + "--sim-args '--dt -1'", {"--sim-args", "--dt", "'-1'"}},
+      {acc + "--sim-args '--integrator euler'", {"--sim-args", "--integrator", "euler"}},
+      {acc + "--baked " + f.dataset, {"--baked", f.dataset, "not a yarnhom baked file"}},
+      {acc + "--dataset " + f.baked, {"--dataset", f.baked}},
+      {"study table5 " + pat + " -o " + out + " --size 0,0", {"--size", "0,0"}},
+      {"study table5 " + pat + " " + d / "missing.pyp" + " -o " + out, {d / "missing.pyp"}},
+      {"study bake-resolution " + pat + " -o " + out + " --sim-args '--tol nan'", {"--sim-args", "--tol", "nan"}},
+      {"study strip-width " + pat + " -o " + out + " --widths 0.02 --length 1e9", {"--size", "1e+09"}},
+      {"study strip-width " + pat + " -o " + out + " --baked " + f.dataset, {"--baked", f.dataset}},
+      {"study rve-size " + f.pattern + " -o " + out + " --strip-args '--newton bogus'", {"--strip-args", "--newton", "bogus"}},
+  };
+  for (const Case& c : cases) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = run_cli_limited(c.args, 30);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_TRUE(refused(r.status)) << r.status << " " << c.args << "\n" << r.out;
+    EXPECT_LT(s, 1.0) << c.args;
+    for (const std::string& w : c.words) EXPECT_NE(r.out.find(w), std::string::npos) << c.args << ": no '" << w << "'\n" << r.out;
+    EXPECT_EQ(r.out.find("logs/"), std::string::npos) << c.args << ": a stage ran\n" << r.out;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}

@@ -1,10 +1,12 @@
 #pragma once
 // The accuracy test's options (pipeline/accuracy_run.hpp), as `accuracy` and the accuracy studies
 // (`study table5`, `bake-resolution`, `rve-size`, `strip-width`) declare them.
+#include <sstream>
 #include <string>
 
 #include "pipeline/accuracy_run.hpp"
 #include "tools/cli/cli_util.hpp"
+#include "tools/cli/stage_checks.hpp"
 
 namespace yarnhom::tools {
 
@@ -37,6 +39,51 @@ inline void add_accuracy_options(CLI::App* cmd, pipeline::AccuracyOptions& a, co
   cmd->add_option("--strip-args", a.strip_args, help.strip_args);
   cmd->add_option("--sim-args", a.sim_args, help.sim_args);
   add_force_flag(cmd, a.force);
+}
+
+// Before the first stage (issue 32): the test's own options (--stretch from 1.0, --dataset a
+// dataset, --baked a baked file) and, per pattern, direction and size the run will use, the
+// strip and sim stretch command lines it will start, with --strip-args and --sim-args, checked
+// as those commands check them. Each message names the options and values.
+inline void check_accuracy_run(const pipeline::AccuracyOptions& a, const std::vector<std::string>& patterns,
+                               const std::vector<std::string>& directions, const std::vector<std::string>& sizes) {
+  pipeline::check_accuracy_options(a);
+  auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::string cur;
+    for (char c : s + " ")
+      if (c != ' ') cur += c;
+      else if (!cur.empty()) out.push_back(std::exchange(cur, ""));
+    return out;
+  };
+  for (const std::string& size : sizes)
+    for (const std::string& dir : directions) {
+      const std::string common = " --size " + size + " --direction " + dir + " --stretch " + a.stretch;
+      double clamp = 0.005;
+      for (const std::string& pattern : patterns) {
+        std::vector<std::string> strip = {"strip", pattern, "--size", size, "--direction", dir, "--stretch", a.stretch, "-o", "STRIP"};
+        for (const std::string& x : split(a.strip_args)) strip.push_back(x);
+        try {
+          clamp = check_strip_stage(strip);
+        } catch (const std::exception& e) {
+          throw std::invalid_argument("the yarn strip stage would refuse its options (" + pattern + common +
+                                      (a.strip_args.empty() ? "" : " --strip-args '" + a.strip_args + "'") + "): " + e.what());
+        }
+      }
+      // The clamp band as the strip's settings.txt will give it (pipeline/accuracy_run.cpp).
+      std::ostringstream band;
+      band.precision(17);
+      band << clamp;
+      std::vector<std::string> sim = {"sim", "stretch", "-o", "SIM", "--direction", dir, "--size", size,
+                                      "--stretch", a.stretch, "--clamp", band.str(), "-q"};
+      for (const std::string& x : split(a.sim_args)) sim.push_back(x);
+      try {
+        check_sim_stage(sim);
+      } catch (const std::exception& e) {
+        throw std::invalid_argument("the continuum strip stage (sim stretch) would refuse its options (" + common.substr(1) +
+                                    (a.sim_args.empty() ? "" : " --sim-args '" + a.sim_args + "'") + "): " + e.what());
+      }
+    }
 }
 
 }  // namespace yarnhom::tools

@@ -19,7 +19,10 @@ void register_accuracy(CLI::App& app) {
   help.sim_args = "Extra arguments for sim stretch (one string, split at spaces)";
   add_accuracy_options(cmd, *o, help);
   CLI::App* root = &app;
-  cmd->callback([o, root] { pipeline::run_accuracy_command(*o, command_names(*root)); });
+  cmd->callback([o, root] {
+    check_accuracy_run(*o, {o->pattern}, {o->direction}, {o->size});  // before the first stage
+    pipeline::run_accuracy_command(*o, command_names(*root));
+  });
 }
 
 }  // namespace yarnhom::tools

@@ -2,6 +2,7 @@
 // built-in scenes drape, hang, stretch, or a scene file (sim/sim_run.hpp, pipeline/sim_command.hpp).
 #include "pipeline/sim_command.hpp"
 #include "tools/cli/cli_util.hpp"
+#include "tools/cli/stage_checks.hpp"
 
 namespace yarnhom::tools {
 
@@ -94,8 +95,12 @@ void add_solver_options(CLI::App* cmd, sim::SimRunOptions& o) {
 
 }  // namespace
 
-void register_sim(CLI::App& app) {
-  auto [cmd, o] = add_command<sim::SimRunOptions>(app, "sim");
+namespace {
+
+// sim's options into o.
+CLI::App* declare_sim(CLI::App& app, const std::shared_ptr<sim::SimRunOptions>& op) {
+  CLI::App* cmd = app.add_subcommand("sim", command_help("sim"));
+  sim::SimRunOptions* o = op.get();
   cmd->add_option("SCENE", o->scene, "drape, hang, stretch, or a scene file (.json)")->required();
   add_output_option(cmd, o->out, "Output folder (created)");
   cmd->add_option("--material", o->material,
@@ -111,7 +116,22 @@ void register_sim(CLI::App& app) {
   add_stretch_options(cmd, *o);
   add_integrator_options(cmd, *o);
   add_solver_options(cmd, *o);
+  return cmd;
+}
+
+}  // namespace
+
+void register_sim(CLI::App& app) {
+  auto o = std::make_shared<sim::SimRunOptions>();
+  CLI::App* cmd = declare_sim(app, o);
   cmd->callback([o] { exit_with(pipeline::run_sim_command(*o)); });
+}
+
+void check_sim_stage(const std::vector<std::string>& args) {
+  CLI::App app;
+  auto o = std::make_shared<sim::SimRunOptions>();
+  declare_sim(app, o)->callback([o] { sim::check_sim_options(*o); });
+  parse_stage(app, args);
 }
 
 }  // namespace yarnhom::tools

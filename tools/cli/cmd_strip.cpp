@@ -2,6 +2,7 @@
 // resumable per load step (yarn/strip/strip_run.hpp), and its pictures (pipeline/strip_command.hpp).
 #include "pipeline/strip_command.hpp"
 #include "tools/cli/cli_util.hpp"
+#include "tools/cli/stage_checks.hpp"
 
 namespace yarnhom::tools {
 
@@ -33,8 +34,12 @@ void add_solve_options(CLI::App* cmd, pipeline::StripCommandOptions& o) {
 
 }  // namespace
 
-void register_strip(CLI::App& app) {
-  auto [cmd, o] = add_command<pipeline::StripCommandOptions>(app, "strip");
+namespace {
+
+// strip's options into o.
+CLI::App* declare_strip(CLI::App& app, const std::shared_ptr<pipeline::StripCommandOptions>& op) {
+  CLI::App* cmd = app.add_subcommand("strip", command_help("strip"));
+  pipeline::StripCommandOptions* o = op.get();
   add_pattern_argument(cmd, o->pattern);
   add_output_option(cmd, o->out, "Run folder (created; a rerun resumes it)");
   cmd->add_option("--size", o->size, "WIDTH,LENGTH of the strip in metres (default 0.05,0.10)");
@@ -51,7 +56,23 @@ void register_strip(CLI::App& app) {
                   "stiffness\")")
       ->check(finite_range(1e-12, 1.0, "in (0, 1]"));
   add_solve_options(cmd, *o);
+  return cmd;
+}
+
+}  // namespace
+
+void register_strip(CLI::App& app) {
+  auto o = std::make_shared<pipeline::StripCommandOptions>();
+  CLI::App* cmd = declare_strip(app, o);
   cmd->callback([o] { exit_with(pipeline::run_strip_command(*o)); });
+}
+
+double check_strip_stage(const std::vector<std::string>& args) {
+  CLI::App app;
+  auto o = std::make_shared<pipeline::StripCommandOptions>();
+  declare_strip(app, o)->callback([o] { yarn::check_strip_options(*o); });
+  parse_stage(app, args);
+  return o->clamp;
 }
 
 }  // namespace yarnhom::tools

@@ -10,13 +10,36 @@ namespace yarnhom::tools {
 namespace {
 
 // A study: its own options, then the accuracy test's; the callback runs it.
+// `check` makes the accuracy test's checks (tools/cli/accuracy_options.hpp) for every pattern,
+// direction and size the study will run, before its first stage.
 template <class Options>
 void add_study(CLI::App* study, const std::string& name, void (*add_own)(CLI::App*, Options&),
-               void (*run)(const Options&), const AccuracyOptionHelp& help = {}) {
+               void (*run)(const Options&), void (*check)(const Options&), const AccuracyOptionHelp& help = {}) {
   auto [cmd, o] = add_command<Options>(*study, name);
   add_own(cmd, *o);
   add_accuracy_options(cmd, o->acc, help);
-  cmd->callback([o, run] { run(*o); });
+  cmd->callback([o, run, check] {
+    check(*o);
+    run(*o);
+  });
+}
+
+void check_table5(const pipeline::Table5Options& o) { check_accuracy_run(o.acc, o.patterns, o.directions, {o.acc.size}); }
+void check_bake_resolution(const pipeline::BakeResolutionOptions& o) {
+  check_accuracy_run(o.acc, {o.pattern}, {o.direction}, {o.acc.size});
+}
+void check_rve_size(const pipeline::RveSizeOptions& o) { check_accuracy_run(o.acc, {o.pattern}, {o.direction}, {o.acc.size}); }
+void check_strip_width(const pipeline::StripWidthOptions& o) {
+  pipeline::AccuracyOptions a = o.acc;
+  a.dataset = o.dataset;
+  a.baked = o.baked;
+  std::vector<std::string> sizes;
+  for (double w : o.widths) {
+    char sz[64];
+    std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);  // as the study passes them
+    sizes.push_back(sz);
+  }
+  check_accuracy_run(a, {o.pattern}, {o.direction}, sizes);
 }
 
 void add_table5_options(CLI::App* cmd, pipeline::Table5Options& o) {
@@ -56,14 +79,14 @@ void add_rve_size_options(CLI::App* cmd, pipeline::RveSizeOptions& o) {
 
 void register_study_accuracy(CLI::App& app) {
   CLI::App* study = study_group(app, "Studies that reproduce the supplement's tables (docs/accuracy.md)");
-  add_study<pipeline::Table5Options>(study, "table5", add_table5_options, pipeline::run_study_table5);
+  add_study<pipeline::Table5Options>(study, "table5", add_table5_options, pipeline::run_study_table5, check_table5);
   add_study<pipeline::BakeResolutionOptions>(study, "bake-resolution", add_bake_resolution_options,
-                                             pipeline::run_study_bake_resolution);
+                                             pipeline::run_study_bake_resolution, check_bake_resolution);
   AccuracyOptionHelp width_help;
   width_help.size.clear();  // the study sets each strip's size (--widths, --length)
   add_study<pipeline::StripWidthOptions>(study, "strip-width", add_strip_width_options, pipeline::run_study_strip_width,
-                                         width_help);
-  add_study<pipeline::RveSizeOptions>(study, "rve-size", add_rve_size_options, pipeline::run_study_rve_size);
+                                         check_strip_width, width_help);
+  add_study<pipeline::RveSizeOptions>(study, "rve-size", add_rve_size_options, pipeline::run_study_rve_size, check_rve_size);
 }
 
 }  // namespace yarnhom::tools

@@ -301,6 +301,8 @@ void print_force_table(const std::vector<StretchStep>& done, const std::string& 
 
 }  // namespace
 
+void check_strip_options(const StripRunOptions& o) { validate(o); }
+
 int run_strip(const StripRunOptions& o) {
   const auto t_start = Clock::now();
   if (o.threads > 0) omp_set_num_threads(o.threads);

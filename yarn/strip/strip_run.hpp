@@ -29,4 +29,10 @@ struct StripRunOptions {
 // holds another run.
 int run_strip(const StripRunOptions& o);
 
+// The checks run_strip makes before any work (--size, --direction, --newton, --stretch,
+// --clamp, --material, the pattern read, the strip's size bounded), without running or writing
+// anything: what accuracy and the studies check before their first stage starts. Throws
+// std::invalid_argument naming the option and the value.
+void check_strip_options(const StripRunOptions& o);
+
 }  // namespace yarnhom::yarn
