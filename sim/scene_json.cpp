@@ -59,7 +59,12 @@ void read_mesh(const Reader& r, const json& j, Scene& s) {
   const json& jm = j["mesh"];
   r.only(jm, "mesh", {"obj", "rectangle"});
   if (jm.contains("obj")) {
-    s.mesh = read_obj(r.path(jm["obj"], "mesh.obj"));
+    const std::string obj = r.path(jm["obj"], "mesh.obj");
+    try {
+      s.mesh = read_obj(obj);
+    } catch (const std::exception& e) {  // names the OBJ file: say which scene and key named it
+      r.fail("mesh.obj", e.what());
+    }
   } else if (jm.contains("rectangle")) {
     const json& rc = jm["rectangle"];
     r.only(rc, "mesh.rectangle", {"width", "height", "nx", "ny"});
