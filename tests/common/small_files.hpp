@@ -37,6 +37,15 @@ struct TempDir {
 // The built-in stockinette (16 vertices) as a .pyp file with every block.
 inline void write_small_pattern(const std::string& path) { yarn::write_pyp(path, yarn::builtin_pattern("stockinette")); }
 
+// The same with a rest curvature on every vertex (0.05, 0): a pattern whose loops are not all
+// straight at rest, which strip accepts at any size (yarn/strip/strip_run.cpp). For tests of
+// option checks only: it is no pattern's real rest state.
+inline void write_curved_pattern(const std::string& path) {
+  yarn::Pattern p = yarn::builtin_pattern("stockinette");
+  for (auto& k : p.rest_kappa) k = Eigen::Vector2d(0.05, 0.0);
+  yarn::write_pyp(path, p);
+}
+
 // The synthetic quick dataset restricted to terms 0 and 02 (21 and 81 samples).
 inline Dataset small_dataset() {
   Dataset ds = make_synthetic_dataset("quick");

@@ -73,12 +73,13 @@ TEST(Hardening3, OutputFoldersThatAreFilesOrCannotBeMadeAreRefusedInOneLine) {
   std::vector<std::pair<std::string, std::string>> outs = {
       {d / "file", "regular file"}, {d / "fifo", "FIFO"}, {"/dev/null", "character device"}, {d / "file/sub", "not a folder"}};
   if (fs::is_directory("/proc/self")) outs.push_back({"/proc/yarnhom-no-such/out", "cannot create"});
-  const std::string pat = pattern_file();
+  const std::string pat = d / "curved.pyp";  // passes strip's checks: -o is what is refused
+  yarnhom::test::write_curved_pattern(pat);
   for (const auto& [out, why] : outs) {
     for (const std::string& cmd :
          {"sim hang -q --frames 1 --material " + f.baked + " -o " + out, "strip " + pat + " --no-plots -o " + out,
           "accuracy " + pat + " --direction course -o " + out, "study table5 " + pat + " -o " + out,
-          "study strip-width " + pat + " -o " + out, "study rve-size " + f.pattern + " -o " + out,
+          "study strip-width " + pat + " -o " + out, "study rve-size " + pat + " -o " + out,
           "study architectures " + f.dataset + " --no-plot -o " + out, "pipeline " + pat + " -o " + out})
       expect_clean_refusal(cmd, {out, why, "(-o)"});
   }
@@ -142,7 +143,8 @@ TEST(Hardening3, FailedTrainAllLeavesThePreviousModelAsItWas) {
 TEST(Hardening3, AccuracyAndStudiesRefuseBadOptionsBeforeTheFirstStage) {
   yarnhom::test::TempDir d("h3_late");
   const auto f = yarnhom::test::write_small_files(d);
-  const std::string pat = pattern_file(), out = d / "acc";
+  const std::string pat = d / "curved.pyp", out = d / "acc";  // a pattern strip takes at any size
+  yarnhom::test::write_curved_pattern(pat);
   const std::string acc = "accuracy " + pat + " --direction course -o " + out + " ";
   struct Case {
     std::string args;
@@ -166,7 +168,7 @@ TEST(Hardening3, AccuracyAndStudiesRefuseBadOptionsBeforeTheFirstStage) {
       {"study bake-resolution " + pat + " -o " + out + " --sim-args '--tol nan'", {"--sim-args", "--tol", "nan"}},
       {"study strip-width " + pat + " -o " + out + " --widths 0.02 --length 1e9", {"--size", "1e+09"}},
       {"study strip-width " + pat + " -o " + out + " --baked " + f.dataset, {"--baked", f.dataset}},
-      {"study rve-size " + f.pattern + " -o " + out + " --strip-args '--newton bogus'", {"--strip-args", "--newton", "bogus"}},
+      {"study rve-size " + pat + " -o " + out + " --strip-args '--newton bogus'", {"--strip-args", "--newton", "bogus"}},
   };
   for (const Case& c : cases) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -178,4 +180,36 @@ TEST(Hardening3, AccuracyAndStudiesRefuseBadOptionsBeforeTheFirstStage) {
     EXPECT_EQ(r.out.find("logs/"), std::string::npos) << c.args << ": a stage ran\n" << r.out;
     EXPECT_FALSE(fs::exists(out)) << c.args;
   }
+}
+
+// Issue 32 item 10: a strip of a pattern whose rest yarn is straight (stocktiny, the built-in
+// patterns) does not hold together unless its clamps hold nearly all of it: refused at once with
+// the reason and a size that works, instead of 300 Newton iterations and exit 2 after 45 s.
+// (That such a wale strip runs: CliStrip.KilledAndRerunGivesTheSameForceCurve.)
+TEST(Hardening3, StripsThatCannotHoldTogetherAreRefusedAtOnceWithTheReason) {
+  yarnhom::test::TempDir d("h3_strip");
+  const std::string tiny = pattern_file(), out = d / "s";
+  for (const std::string& args : std::vector<std::string>{tiny + " --size 0.01,0.02 --stretch 1.0:1.05:0.05", tiny + " --size 0.0035,0.004 --clamp 0.0012",
+        "stockinette --size 0.004,0.008 --clamp 0.001"}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = run_cli_limited("strip " + args + " --no-plots -o " + out, 30);
+    EXPECT_TRUE(refused(r.status)) << r.status << " " << args << "\n" << r.out;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0) << args;
+    for (const char* w : {"straight", "a course strip of it does not hold at any size", "--direction wale --size"})
+      EXPECT_NE(r.out.find(w), std::string::npos) << args << ": no '" << w << "'\n" << r.out;
+  }
+  // A wale strip with more than two courses between its clamps.
+  const auto r = run_cli_limited("strip " + tiny + " --direction wale --size 0.0035,0.0053 --clamp 0.0009 --no-plots -o " + out, 30);
+  EXPECT_TRUE(refused(r.status)) << r.out;
+  EXPECT_NE(r.out.find("at most 2 courses between the clamps"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+  // A pattern with rest curvatures passes the check (accuracy makes strip's checks first, then
+  // refuses its -o under a regular file).
+  const std::string curved = d / "curved.pyp";
+  yarnhom::test::write_curved_pattern(curved);
+  std::ofstream(d / "file") << "x";
+  const auto c = run_cli_limited("accuracy " + curved + " --direction course --size 0.01,0.02 -o " + d / "file/x", 30);
+  EXPECT_TRUE(refused(c.status)) << c.out;
+  EXPECT_EQ(c.out.find("straight"), std::string::npos) << c.out;
+  EXPECT_NE(c.out.find("not a folder"), std::string::npos) << c.out;
 }

@@ -190,6 +190,8 @@ TEST(Fuzz, SceneAndHylcJsonAndTheNewCommandsOptionsAreReadOrRefusedCleanly) {
   // runs one frame of a 2 x 2 sheet; strip names a missing pattern (checked after its options);
   // accuracy and study write to a path under a regular file (refused after their checks).
   std::ofstream(d / "file") << "x";
+  const std::string curved = d / "curved.pyp";  // strip's checks pass it at any size: the options are what is tested
+  yarnhom::test::write_curved_pattern(curved);
   const std::string missing = d / "missing.pyp", under_file = d / "file/out", out = d / "o";
   const std::string sim = "sim drape -q --frames 1 --resolution 2 --render none --no-frames --material " + files.baked +
                           " -o " + out + " ";
@@ -209,13 +211,13 @@ TEST(Fuzz, SceneAndHylcJsonAndTheNewCommandsOptionsAreReadOrRefusedCleanly) {
       {"export-hylc " + files.baked + " --density 0.3 -o " + d / "m.json", "--margin"},
       {"fit-splines " + files.dataset + " -o " + d / "s.h5", "--smoothing"},
       {"fit-splines " + files.dataset + " -o " + d / "s.h5", "--gradient-weight"},
-      {"accuracy stockinette --direction wale -o " + under_file, "--size"},
-      {"accuracy stockinette --direction wale -o " + under_file, "--stretch"},
-      {"accuracy stockinette --direction wale -o " + under_file, "--spacing"},
-      {"accuracy stockinette --direction wale -o " + under_file, "--epochs"},
-      {"study table5 stockinette -o " + under_file, "--size"},
-      {"study strip-width stockinette -o " + under_file, "--widths"},
-      {"study strip-width stockinette -o " + under_file, "--length"}};
+      {"accuracy " + curved + " --direction wale -o " + under_file, "--size"},
+      {"accuracy " + curved + " --direction wale -o " + under_file, "--stretch"},
+      {"accuracy " + curved + " --direction wale -o " + under_file, "--spacing"},
+      {"accuracy " + curved + " --direction wale -o " + under_file, "--epochs"},
+      {"study table5 " + curved + " -o " + under_file, "--size"},
+      {"study strip-width " + curved + " -o " + under_file, "--widths"},
+      {"study strip-width " + curved + " -o " + under_file, "--length"}};
   const std::vector<std::string> values = {"nan", "inf", "-inf", "-1", "0", "1e300", "1e-300", "x", "''", "1e999",
                                            "2147483648", "0,0", "1e9,1e9", "0,0.1", "1.0:0.5:0.1", "1.0:10:1e-9",
                                            "1.0:1e300:1", "0.01", "3"};
@@ -223,11 +225,11 @@ TEST(Fuzz, SceneAndHylcJsonAndTheNewCommandsOptionsAreReadOrRefusedCleanly) {
   // The command lines first.
   for (const std::string& args :
        {"strip " + d / "missing.pyp" + " --size 1e9,1e9 -o " + out, "strip stockinette --size 1e9,1e9 -o " + out,
-        "accuracy stockinette --direction wale -o " + out + " --size 0,0.1",
-        "accuracy stockinette --direction wale -o " + out + " --strip-args '--bogus'",
-        "accuracy stockinette --direction wale -o " + out + " --sim-args '--dt -1'",
-        "accuracy stockinette --direction wale -o " + out + " --baked " + files.dataset,
-        "study table5 stockinette -o " + out + " --size 0,0", "sim stretch --size 1e9,1e9 -o " + out + " --material " + files.baked,
+        "accuracy " + curved + " --direction wale -o " + out + " --size 0,0.1",
+        "accuracy " + curved + " --direction wale -o " + out + " --strip-args '--bogus'",
+        "accuracy " + curved + " --direction wale -o " + out + " --sim-args '--dt -1'",
+        "accuracy " + curved + " --direction wale -o " + out + " --baked " + files.dataset,
+        "study table5 " + curved + " -o " + out + " --size 0,0", "sim stretch --size 1e9,1e9 -o " + out + " --material " + files.baked,
         "sim " + d / "scene0.json" + " -o " + out + " --material " + files.baked,
         "sim " + d / "scene1.json" + " -o " + out + " --material " + files.baked}) {
     expect_no_crash(args, true, &cli_refused);
@@ -248,7 +250,7 @@ TEST(Fuzz, SceneAndHylcJsonAndTheNewCommandsOptionsAreReadOrRefusedCleanly) {
     const bool strip = i % 2 == 0;
     const auto& list = strip ? strip_opts : sim_opts;
     const std::string extra = list[pick(rng, int(list.size()))] + " " + values[pick(rng, int(values.size()))];
-    expect_no_crash("accuracy stockinette --direction wale -o " + under_file + (strip ? " --strip-args '" : " --sim-args '") +
+    expect_no_crash("accuracy " + curved + " --direction wale -o " + under_file + (strip ? " --strip-args '" : " --sim-args '") +
                         extra + "'",
                     true, &cli_refused);
     ++through;

@@ -93,6 +93,41 @@ void check_strip_size(const Pattern& p, double width, double length) {
   throw std::invalid_argument(buf);
 }
 
+// A pattern whose rest yarn is straight and untwisted (RK = RT = 0: stocktiny, stocktiniest and
+// the built-in generated patterns) stores the bending energy of its loops, which only the
+// periodic tile balances: cut into a strip, the courses pull their loops out of each other and
+// the relaxation at 100 % does not converge unless the clamps hold nearly all of it
+// (docs/strip.md section 6). Refused at once: every course strip, and a wale strip with more
+// than two courses between its clamps. Measured on stocktiny (course height 0.88 mm): wale
+// strips 3.5, 8 and 15 mm wide with 1.7 mm free relax in 49, 39 and 86 Newton iterations;
+// 3.2 mm free relaxes in 244 at 3.5 mm wide and fails at 8 mm, 3.5 mm free fails; course strips
+// fail with 1.6 mm free (3.5 x 4 mm), 10 mm (10 x 20 mm) and the built-in stockinette's 6 mm.
+constexpr double kMaxFreeCourses = 2.0;
+void check_strip_holds(const Pattern& p, const StripRunOptions& o, double width, double length) {
+  for (const Eigen::Vector2d& k : p.rest_kappa)
+    if (!(k.norm() < 1e-9)) return;
+  for (double t : p.rest_twist)
+    if (!(std::abs(t) < 1e-9)) return;
+  const bool course = o.direction == "course";
+  const double free_length = length - 2 * o.clamp, most = kMaxFreeCourses * p.py;
+  if (!course && free_length <= most) return;
+  char what[400];
+  if (course)
+    std::snprintf(what, sizeof what, "a course strip of it does not hold at any size; a wale strip does with at most %g courses "
+                  "between the clamps (length - 2 x --clamp <= %.3g mm, e.g. --direction wale --size %g,%.4g --clamp %g)",
+                  kMaxFreeCourses, 1e3 * most, width, 2 * o.clamp + most, o.clamp);
+  else
+    std::snprintf(what, sizeof what, "a wale strip of it holds with at most %g courses between the clamps: length - 2 x --clamp "
+                  "= %.4g mm here, at most %.3g mm (%g x the %.3g mm course height; e.g. --size %g,%.4g with --clamp %g)",
+                  kMaxFreeCourses, 1e3 * free_length, 1e3 * most, kMaxFreeCourses, 1e3 * p.py, width, 2 * o.clamp + most, o.clamp);
+  throw std::invalid_argument(
+      display_name(p) + ": its rest yarn is straight and untwisted (every rest curvature and twist is 0), so its loops "
+      "hold only inside the periodic tile: cut into a strip, its courses pull their loops out of each other and the "
+      "relaxation at 100 % does not converge unless the clamps hold nearly all of it (measured on stocktiny; docs/strip.md "
+      "section 6): " + std::string(what) + ". A pattern that stores its loops' curvature makes strips of any size (the "
+      "paper's, e.g. ../shared/patterns/stockinette.pyp: a 20 x 40 mm course strip relaxes in 83 iterations)");
+}
+
 // The options checked, and what the run is.
 struct StripSetup {
   std::vector<double> size, stretches;
@@ -127,6 +162,7 @@ StripSetup validate(const StripRunOptions& o) {
   // the same file reached by another path resumes and an edited one does not.
   s.raw = load_pattern(o.pattern);
   check_strip_size(s.raw, s.size[0], s.size[1]);
+  check_strip_holds(s.raw, o, s.size[0], s.size[1]);
   uint64_t digest = 1469598103934665603ull;
   for (unsigned char c : format_pyp(s.raw)) digest = (digest ^ c) * 1099511628211ull;
   std::ostringstream set;
