@@ -107,6 +107,16 @@ TEST(CliStrip, KilledAndRerunGivesTheSameForceCurve) {
   ASSERT_EQ(longer.size(), 5u);
   for (size_t k = 0; k < whole.size(); ++k) EXPECT_EQ(longer[k], whole[k]);
 
+  // A shorter list (issue 32): the later steps' files of the longer run are removed, saying so,
+  // so that the folder holds what force.csv lists.
+  r = yarnhom::test::run_cli("strip " + pattern() + args() + " --stretch 1.0:1.05:0.05 -o " + out);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(curve(out + "/force.csv").size(), 3u);
+  EXPECT_TRUE(fs::exists(out + "/centrelines/step_001.obj"));
+  for (const char* f : {"/steps/step_002.h5", "/steps/step_003.h5", "/centrelines/step_002.obj", "/centrelines/step_003.obj"})
+    EXPECT_FALSE(fs::exists(out + f)) << f;
+  EXPECT_NE(r.out.find("removed 2 load step(s) of an earlier run"), std::string::npos) << r.out;
+
   // Other settings in the same folder are refused, naming what differs.
   r = yarnhom::test::run_cli("strip " + pattern() + args("0.001") + " --stretch 1.0:1.1:0.05 -o " + out);
   EXPECT_NE(r.status, 0);

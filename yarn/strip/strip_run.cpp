@@ -325,6 +325,23 @@ class LoadSteps {
   int computed_ = 0;
 };
 
+// A rerun with fewer load steps (a shorter --stretch): the step files and centrelines of the
+// earlier run's later steps are removed, saying so in one line, so that the folder holds what
+// force.csv lists (accuracy counts the centrelines).
+void remove_steps_beyond(const fs::path& dir, size_t n) {
+  int removed = 0;
+  std::error_code ec;
+  for (size_t k = n;; ++k) {
+    const bool a = fs::remove(dir / "steps" / (step_name(int(k)) + ".h5"), ec);
+    const bool b = fs::remove(dir / "centrelines" / (step_name(int(k)) + ".obj"), ec);
+    if (!a && !b) break;
+    ++removed;
+  }
+  if (removed)
+    std::fprintf(stderr, "yarnhom strip: removed %d load step(s) of an earlier run beyond this run's %zu (%s .. %s)\n", removed,
+                 n, step_name(int(n)).c_str(), step_name(int(n) + removed - 1).c_str());
+}
+
 void print_force_table(const std::vector<StretchStep>& done, const std::string& out) {
   std::printf("%-6s %-8s %-14s %-12s %-10s %-6s %s\n", "step", "stretch", "tension N/m", "force N", "balance", "iter",
               "seconds");
@@ -364,6 +381,7 @@ int run_strip(const StripRunOptions& o) {
 
   LoadSteps steps(o, s.stretches, strip, P, t_start);
   const bool ok = steps.run();
+  if (ok) remove_steps_beyond(fs::path(o.out), s.stretches.size());
   print_force_table(steps.done(), o.out);
   return ok ? 0 : 2;
 }
