@@ -26,6 +26,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -50,13 +52,15 @@ __global__ void __launch_bounds__(kThreads) polish_kernel(const PolNet* nets) {
     if (n.s.d == 1) polish_body<double, 1>(n, smem_d, red);
     else polish_body<double, 2>(n, smem_d, red);
   } else {
-    if (n.s.d == 1) polish_body<float, 1>(n, reinterpret_cast<float*>(smem_d), red);
-    else polish_body<float, 2>(n, reinterpret_cast<float*>(smem_d), red);
+    if (n.s.d == 1) polish_body<float, 1>(n, smem_d, red);
+    else polish_body<float, 2>(n, smem_d, red);
   }
 }
 
+// The optimizer's five vectors (double), then the loss's buffers (polish_layout, in T).
 size_t smem_bytes(const NetShape& s, bool dbl) {
-  return dbl ? size_t(polish_layout<double>(s).total) * 8 : size_t(polish_layout<float>(s).total) * 4;
+  const size_t vecs = size_t(5) * ((s.P + 3) & ~3) * 8;
+  return vecs + (dbl ? size_t(polish_layout<double>(s).total) * 8 : size_t(polish_layout<float>(s).total) * 4);
 }
 
 }  // namespace
@@ -162,7 +166,7 @@ void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig
     o.p0 = put_bytes(params[which[q]].data(), params[which[q]].size() * sizeof(float));
     smem = std::max(smem, cuda::smem_bytes(n.s, dbl));
     vec_at[q] = vec_doubles;
-    vec_doubles += size_t(cuda::kMaxCluster) * (5 + 2 * opt.memory) * n.s.P;
+    vec_doubles += size_t(cuda::kMaxCluster) * (2 * opt.memory) * n.s.P;
     loss_at[q] = loss_doubles;
     loss_doubles += 2 * size_t(std::max(1, n.max_iter));
     best_at[q] = best_floats;
@@ -232,6 +236,17 @@ void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig
   check(cudaMemcpy(losses.data(), loss, sizeof(double) * loss_doubles, cudaMemcpyDeviceToHost), "cudaMemcpy");
   std::vector<float> best(best_floats);
   check(cudaMemcpy(best.data(), best_d.data(), sizeof(float) * best_floats, cudaMemcpyDeviceToHost), "cudaMemcpy");
+  if (std::getenv("YARNHOM_CUDA_POLISH_PROFILE")) {
+    // Where block 0 of each cluster spent its SM clock cycles, per iteration.
+    std::fprintf(stderr, "polish on the GPU: %d clusters of %d blocks, %.3f s\n", J, CB, sec);
+    for (int q = 0; q < J; ++q) {
+      const cuda::PolOut& o = outs[q];
+      const double it = std::max(1, o.iterations);
+      std::fprintf(stderr, "  %-3s %5d it %5d ev  kcycles/iteration: direction %.1f, line search %.1f, validation %.1f, "
+                   "rest %.1f\n", jobs[which[q]].name.c_str(), o.iterations, o.evaluations, o.cycles[0] / it / 1e3,
+                   o.cycles[1] / it / 1e3, o.cycles[2] / it / 1e3, o.cycles[3] / it / 1e3);
+    }
+  }
   for (int q = 0; q < J; ++q) {
     const int j = which[q];
     const cuda::PolOut& o = outs[q];

@@ -43,6 +43,8 @@ if has train; then
   for r in 1 2 3; do run "cuda default run $r" $Y train-all /tmp/paper.h5 -o /tmp/m_cuda_$r.h5 --backend cuda -q; done
   cp /tmp/r.log "$OUT/train_cuda_default.log"
   head -17 /tmp/r.log
+  YARNHOM_CUDA_POLISH_PROFILE=1 $Y train-all /tmp/paper.h5 -o /tmp/m_prof.h5 --backend cuda -q 2>&1 |
+    grep -E "polish on the GPU|kcycles" | tee "$OUT/polish_profile.txt"
   python3 - <<'PY'
 import h5py, numpy as np
 a, b = h5py.File("/tmp/m_cuda_1.h5"), h5py.File("/tmp/m_cuda_2.h5")
