@@ -29,6 +29,7 @@ void accumulate(NewtonStats& into, const NewtonStats& more) {
   into.converged = more.converged;
   into.energy = more.energy;
   into.step_norm = more.step_norm;
+  into.shell_energy = more.shell_energy;
 }
 
 // Minimizes with the friction lagged at x_start, then (IPC's lag update) P.friction_updates

@@ -54,13 +54,14 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
   const int F = D.num_free();
   if (F == 0) {
     st.converged = true;
-    st.energy = potential_value(P, D, S, x);
+    st.energy = potential_value(P, D, S, x, &st.shell_energy);
     return st;
   }
   for (int it = 0; it < opt.max_iterations; ++it) {
     auto t0 = Clock::now();
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
-    const double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr);
+    const double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr,
+                                           &st.shell_energy);
     st.energy = E;
     const Eigen::VectorXd g = gather_free(D, grad);
     auto t1 = Clock::now();
@@ -98,11 +99,12 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     const double slope = g.dot(pf);  // < 0 for a positive-definite solve
     // Armijo backtracking from the collider-limited step (CCD as a step filter).
     Eigen::VectorXd xn, xt;
+    double shell_n = NAN, shell_t = NAN;  // E_shell at xn and xt (the accepted trial is the last evaluated)
     const numerics::LineSearchResult ls = numerics::armijo_backtracking(
         E, slope, max_feasible_step(P, x, p),
         [&](double alpha) {
           xn = x + alpha * p;
-          return potential_value(P, D, S, xn);
+          return potential_value(P, D, S, xn, &shell_n);
         },
         {opt.armijo, 40, 0.0});
     st.backtracks += ls.trials - (ls.accepted ? 1 : 0);
@@ -119,9 +121,12 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
           [&](double a) {
             if (a > amax) return std::numeric_limits<double>::infinity();
             xt = x + a * p;
-            return potential_value(P, D, S, xt);
+            return potential_value(P, D, S, xt, &shell_t);
           },
-          [&](double) { xn = xt; });
+          [&](double) {
+            xn = xt;
+            shell_n = shell_t;
+          });
       En = ext.energy;
       st.extensions += ext.doublings;
     }
@@ -136,6 +141,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
                    st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p));
     x = xn;
     st.energy = En;
+    st.shell_energy = shell_n;
     // The hinges' branches follow the iterate: a step that turns a hinge by more than pi in all
     // (a soft knit's edge curling within one time step) is then still continuous, as long as no
     // single Newton update turns it by pi (sim/hinge_angles.hpp).

@@ -9,6 +9,7 @@
 // Converged when the Newton step's largest vertex displacement is below tol_step (m): in a
 // dynamic step that is a velocity error below tol_step / h (IPC's criterion; the simulation's
 // default is tol_step = 1e-2 l h, l the sheet's rest diagonal, as in IPC).
+#include <cmath>
 #include <string>
 
 #include "numerics/sparse_cholesky.hpp"
@@ -48,6 +49,7 @@ struct NewtonStats {
   int backtracks = 0;       // line-search halvings
   int extensions = 0;       // line-search doublings past the full step (negative curvature)
   double step_norm = 0;     // the last Newton step's size in the settings' norm
+  double shell_energy = NAN;  // E_shell at the returned x (NaN when no pass evaluated it there)
   double t_assemble = 0, t_solve = 0, t_line_search = 0;  // wall seconds
   ShellTimings shell;       // CPU seconds inside the element loop
 };

@@ -95,18 +95,22 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
 
 }  // namespace
 
-double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x) {
+double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                       double* shell) {
   double E = shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+  if (shell) *shell = E;
   for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
   for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
 }
 
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
-                             const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings) {
+                             const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings,
+                             double* shell) {
   grad.setZero(x.size());
   double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
                                       S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter);
+  if (shell) *shell = E;
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;
     Eigen::Matrix3d H;
@@ -124,6 +128,14 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
     if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
   }
   return E + rayleigh_beta_term(P, D, S, x, &grad, values);
+}
+
+double external_potential(const Problem& P, const Eigen::VectorXd& x) {
+  StepState st;
+  st.dynamic = false;
+  double E = 0;
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, st, x, v, nullptr, nullptr);
+  return E;
 }
 
 Eigen::VectorXd potential_energy_gradient(const Problem& P, const Eigen::VectorXd& x) {

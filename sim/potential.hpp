@@ -41,14 +41,20 @@ struct StepState {
 // Unit area-weighted vertex normals.
 Eigen::MatrixX3d vertex_normals(const Mesh& mesh, const Eigen::VectorXd& x);
 
-// +inf when a vertex is on or inside a collider.
-double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x);
+// +inf when a vertex is on or inside a collider. shell (optional): E_shell(x) alone.
+double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                       double* shell = nullptr);
 
 // Value; gradient (3n, every vertex) written to grad; Hessian over the free vertices added to
-// values (the pattern's value array) when given.
+// values (the pattern's value array) when given. shell (optional): E_shell(x) alone.
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values,
-                             ShellTimings* timings = nullptr);
+                             ShellTimings* timings = nullptr, double* shell = nullptr);
+
+// The potential energy's per-vertex part, gravity and colliders (what a static state's
+// potential_value adds to E_shell): O(vertices), so that a step that knows E_shell at its end
+// (NewtonStats::shell_energy) records its potential energy without another element pass.
+double external_potential(const Problem& P, const Eigen::VectorXd& x);
 
 // Gradient of the potential energy E_shell + gravity + colliders at every vertex: at a
 // prescribed vertex, the force its clamp or handle exerts on the cloth (at equilibrium).

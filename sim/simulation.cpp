@@ -175,10 +175,16 @@ void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const D
   rec.t_solve = st.newton.t_solve;
   rec.t_line_search = st.newton.t_line_search;
   if (st.finite) {
-    StepState none;
-    none.dynamic = false;
-    none.theta_ref = hinges;
-    rec.potential = potential_value(P, D, none, x);
+    if (std::isfinite(st.newton.shell_energy)) {
+      // The solver's last pass evaluated E_shell at x (on the same branches): only the
+      // per-vertex terms remain.
+      rec.potential = st.newton.shell_energy + external_potential(P, x);
+    } else {
+      StepState none;
+      none.dynamic = false;
+      none.theta_ref = hinges;
+      rec.potential = potential_value(P, D, none, x);
+    }
     double kin = 0, vmax = 0;
     for (int i = 0; i < P.mesh.num_vertices(); ++i) {
       const double s2 = v.segment<3>(3 * i).squaredNorm();

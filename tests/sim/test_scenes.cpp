@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/simulation.hpp"
+#include "sim/potential.hpp"
 #include "sim/rectangle.hpp"
 #include "tests/common/poly_material.hpp"
 
@@ -155,4 +156,24 @@ TEST(Scenes, HangingSheetSwingsDownWithoutGainingEnergy) {
   for (const StepRecord& st : r.steps) EXPECT_LE(st.potential + st.kinetic, E0 + 1e-9) << "step " << st.step;
   // It fell: the free corners are well below the pins.
   EXPECT_LT(r.x[3 * rectangle_vertex(8, 0, 0) + 2], -0.1);
+}
+
+// A step's recorded potential energy reuses E_shell from the solver's last pass at the step's
+// end (NewtonStats::shell_energy) and adds the per-vertex terms: it must equal a fresh
+// evaluation of the potential at the final state, for every integrator that reports it.
+TEST(Scenes, RecordedPotentialEqualsAFreshEvaluationAtTheEnd) {
+  for (Integrator integ : {Integrator::Newton, Integrator::Linearized, Integrator::BaraffWitkin}) {
+    Scene s = builtin_scene("drape", 6);
+    s.frames = 6;
+    s.integrator = integ;
+    const SimResult r = run_simulation(s, material(), 0.2, SimSettings{});
+    ASSERT_TRUE(r.finite);
+    Problem P = make_problem(s.mesh, material(), 0.2);
+    P.colliders = s.colliders;
+    P.dhat = s.dhat;
+    P.kappa = r.kappa;
+    ASSERT_FALSE(P.colliders.empty());
+    const double fresh = shell_energy(P.mesh, P.rest, P.material, r.x) + external_potential(P, r.x);
+    EXPECT_NEAR(r.steps.back().potential, fresh, 1e-9 * std::abs(fresh) + 1e-12) << int(integ);
+  }
 }
