@@ -39,13 +39,25 @@ TEST(PlotData, WritesWhatTheScriptDrawsAndTheScriptRuns) {
       n.history.val_loss.push_back(1.2 / (e + 1));
       n.history.lr.push_back(e < 10 ? 1e-3 : 5e-4);
     }
+  // The L-BFGS polish after the epochs: drawn on its own x-axis segment.
+  model.networks[1].history.polish_train = {0.05, 0.01, 0.002};
+  model.networks[1].history.polish_val = {0.06, 0.02, 0.004};
+  model.networks[1].val_index = {1, 3};
   Dataset ds;
   TermData td;
   td.term = term_by_name("0");
   td.n = 3;
   td.strain = {-0.1, 0.4, 0.9};
   td.energy = {0.0, 0.1, 0.5};
+  td.gradient = {0.5, 0.6, 1.0};
   ds.terms.push_back(td);
+  TermData t2;  // the 2D term's data: drawn on its surface
+  t2.term = term_by_name("03");
+  t2.n = 4;
+  t2.strain = {-0.1, -100.0, 0.5, -100.0, -0.1, 100.0, 0.5, 100.0};
+  t2.energy = {0.01, -0.02, 0.0, 0.03};
+  t2.gradient = {0.1, 1e-4, 0.2, 1e-4, 0.1, 2e-4, 0.3, 1e-4};
+  ds.terms.push_back(t2);
   const BakedModel baked = bake_model(model, "model.h5", 50, 20, 0, false);
   const std::string path = (dir / "plotdata.h5").string();
   write_plot_data(path, model, baked, ds);
@@ -64,6 +76,12 @@ TEST(PlotData, WritesWhatTheScriptDrawsAndTheScriptRuns) {
   for (double v : root.group("surface").group("03").read_double("d3").data) ASSERT_TRUE(std::isfinite(v));
   for (double v : root.group("convexity").group("03").read_double("lam_min").data) ASSERT_TRUE(std::isfinite(v));
   EXPECT_EQ(root.group("line").group("0").read_double("data_psi").data.size(), 3u);
+  EXPECT_EQ(root.group("history").group("03").read_double("polish_val_loss").data.size(), 3u);
+  EXPECT_FALSE(root.group("history").group("0").has("polish_train_loss"));
+  EXPECT_EQ(root.group("surface").group("03").read_double("data_y").data.size(), 4u);
+  EXPECT_EQ(root.group("surface").group("03").read_double("data_val").data.size(), 2u);
+  EXPECT_TRUE(root.group("surface").group("03").has_attr("verdict"));  // a random network fails
+  EXPECT_TRUE(root.group("line").group("0").has_attr("fit_ok"));
   EXPECT_EQ(root.group("convexity").group("03").attr_string("source"), "network");
 
   const std::string py = python_with_matplotlib();
