@@ -19,6 +19,7 @@
 #include "material/material_source.hpp"
 #include "numerics/blas_threads.hpp"
 #include "sim/hessian_model.hpp"
+#include "sim/obj_io.hpp"
 #include "sim/scene_json.hpp"
 
 namespace yarnhom::sim {
@@ -84,7 +85,16 @@ StretchSize stretch_size(const SimRunOptions& o) {
     size.last = r.back();
     size.steps = int(r.size()) - 1;
   }
-  if (o.clamp >= 0) size.clamp = o.clamp;
+  if (o.clamp >= 0) {
+    // Named here, with the length it must fit in (sim/scene.cpp's check names neither).
+    if (!(o.clamp < size.length / 2)) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "--clamp %g: the clamp band must be shorter than half the strip's length (%g m%s)",
+                    o.clamp, size.length, o.size.empty() ? ", the default; --size WIDTH,LENGTH" : ": --size");
+      throw std::invalid_argument(buf);
+    }
+    size.clamp = o.clamp;
+  }
   return size;
 }
 
@@ -214,7 +224,7 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
 void prepare_sim_folder(const SimRunOptions& o, const Scene& s, const std::string& mpath) {
   std::vector<std::string> inputs = {mpath};
   if (fs::is_regular_file(o.scene)) inputs.push_back(o.scene);
-  prepare_output_folder(o.out, {"frames"}, {"steps.csv", "stretch.csv", "scene_info.json"}, inputs);
+  prepare_output_folder(o.out, {"frames"}, {"steps.csv", "stretch.csv", "scene_info.json", "rest.obj", "sim.mp4"}, inputs);
   if (fs::is_directory(fs::path(o.out) / "renders")) remove_stale_temporaries_in((fs::path(o.out) / "renders").string());
   auto numbered = [](const fs::path& f, const char* ext) {
     const std::string n = f.filename().string(), e = ext;
@@ -236,7 +246,7 @@ void prepare_sim_folder(const SimRunOptions& o, const Scene& s, const std::strin
       if (obj && (o.no_frames || k > s.frames)) ++beyond;
     }
   }
-  for (const char* f : {"stretch.csv", "stretch.png", "steps.csv", "scene_info.json"})
+  for (const char* f : {"stretch.csv", "stretch.png", "steps.csv", "scene_info.json", "rest.obj", "sim.mp4"})
     if (fs::is_regular_file(fs::path(o.out) / f) && fs::remove(fs::path(o.out) / f, ec) && std::string(f).find("stretch") == 0)
       files.push_back(f);
   if (frames + renders == 0 && files.empty()) return;
@@ -274,6 +284,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   set.write_frames = !o.no_frames;
   prepare_sim_folder(o, s, mpath);
   write_scene_info(o.out, s);
+  if (!o.no_frames) write_rest_obj((fs::path(o.out) / "rest.obj").string(), s.mesh);  // the frames' uv are in [0, 1]
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   std::fprintf(stderr,
                "sim %s: %d triangles, %d vertices; material %s (%s)%s; density %g kg/m^2%s; %s, dt %g s x %d "

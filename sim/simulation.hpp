@@ -3,7 +3,7 @@
 //
 // Writes into the output folder, each file complete or not at all (written under a temporary
 // name, then renamed), so an interrupted run keeps every finished frame:
-//   frames/frame_NNNN.obj   positions of frame NNNN (texture coordinates = rest positions)
+//   frames/frame_NNNN.obj   positions of frame NNNN (texture coordinates in [0, 1]: sim/obj_io.hpp)
 //   steps.csv               one row per step: Newton iterations, energies, speed, wall time
 //                           and, with profiling, the time split (docs/sim.md lists the columns)
 //   stretch.csv             stretch scenes: force per clamp width against stretch
