@@ -2,7 +2,8 @@
 // from the same starting weights: every network of the synthetic quick dataset after 30 Adam
 // epochs of the default recipe, polished by both. In double (both), the two follow the same
 // iterates up to the rounding of sums taken in another order, so the final losses agree to
-// 1e-6 relative after 15 iterations, with the same evaluations and best iterates. Rounding
+// 1e-6 relative after 15 iterations, with the same evaluations and best iterates (measured on
+// an H200: at most 2.2e-7, 12 of 14 terms below 1e-9). Rounding
 // differences (1e-16 at the start) grow along the run, by about 2x per iteration on the most
 // sensitive terms (measured on an H200, WhereTheDoubleTrajectoriesPart: the training losses
 // differ by 1e-9 from iteration 9-45, by 1e-6 from iteration 20-65; after 30 iterations 12 of
@@ -105,7 +106,8 @@ TEST(CudaPolish, MatchesTheCpuPolishInDoubleWithin1e6) {
     EXPECT_EQ(g.evaluations, c.evaluations) << name;
     EXPECT_EQ(g.best_iteration, c.best_iteration) << name;
     EXPECT_EQ(g.stop, c.stop) << name;
-    EXPECT_LT(c.train_end, c.train_start) << name;
+    // (the best iterate may be the start: keep_best judges by the validation loss)
+    EXPECT_LT(c.train_loss.back(), c.train_start) << name;
     ASSERT_EQ(g.train_loss.size(), c.train_loss.size()) << name;
     for (size_t k = 0; k < c.train_loss.size(); ++k) {
       EXPECT_LT(rel(g.train_loss[k], c.train_loss[k]), 1e-6) << name << " iteration " << k + 1;
