@@ -27,8 +27,11 @@ void render(const sim::SimRunOptions& o, const sim::SimRunOutcome& r) {
   std::string frames;
   for (int f : r.render_frames)
     if (f <= r.result.frames_done) frames += (frames.empty() ? "" : ",") + std::to_string(f);
-  const std::string cmdline =
-      "'" + py + "' '" + script + "' '" + o.out + "'" + (frames.empty() || o.no_frames ? "" : " --frames " + frames);
+  // --mp4: a video of every frame (the script says in one line when ffmpeg is absent); not with
+  // --render none or --no-frames.
+  const std::string cmdline = "'" + py + "' '" + script + "' '" + o.out + "'" +
+                              (frames.empty() || o.no_frames ? "" : " --frames " + frames) +
+                              (r.render_frames.empty() || o.no_frames ? "" : " --mp4");
   if (std::system(cmdline.c_str()) != 0) std::fprintf(stderr, "sim: the render script failed (%s)\n", cmdline.c_str());
 }
 

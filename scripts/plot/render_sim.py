@@ -1,17 +1,24 @@
 #!/usr/bin/env python3
-"""Draws a `yarnhom sim` run: chosen frames as shaded PNG renders, and for a stretch run the
-force per clamp width against stretch.
+"""Draws a `yarnhom sim` run: chosen frames as shaded PNG renders, a video of every frame, and
+for a stretch run the force per clamp width against stretch.
 
-Usage: render_sim.py OUT_DIR [--frames 0,30,90]
+Usage: render_sim.py OUT_DIR [--frames 0,30,90] [--mp4]
 
 Reads OUT_DIR/frames/frame_NNNN.obj, OUT_DIR/scene_info.json (colliders) and OUT_DIR/stretch.csv;
-writes OUT_DIR/renders/frame_NNNN.png and OUT_DIR/stretch.png. Needs numpy and matplotlib
-(Debian: python3-numpy python3-matplotlib).
+writes OUT_DIR/renders/frame_NNNN.png, OUT_DIR/stretch.png and, with --mp4, OUT_DIR/sim.mp4 (every
+frame, at most 150 evenly spaced, through ffmpeg when it is installed; one line saying so when
+not). Every picture of a run has the same axes: the box of all its frames and colliders. The
+cloth is drawn over the colliders: a collider's faces hidden behind the cloth, seen from the
+camera, are left out (matplotlib sorts polygons by depth, which alone lets a sphere show through
+a cloth lying on it). Needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib).
 """
 import csv
 import json
 import os
+import shutil
+import subprocess
 import sys
+import tempfile
 
 import matplotlib
 
@@ -39,44 +46,132 @@ def shade(tris):
     return np.clip(lam[:, None] * base[None, :], 0, 1)
 
 
-def render(obj, info, out_png, title):
-    x, f = read_obj(obj)
-    tris = x[f]
-    fig = plt.figure(figsize=(6, 5))
-    ax = fig.add_subplot(111, projection="3d")
-    lo, hi = x.min(axis=0), x.max(axis=0)
+ELEV, AZIM = 22, -60  # the camera
+
+
+def view_dir():
+    """Unit vector from the scene toward the camera (matplotlib's view_init angles)."""
+    e, a = np.radians(ELEV), np.radians(AZIM)
+    return np.array([np.cos(e) * np.cos(a), np.cos(e) * np.sin(a), np.sin(e)])
+
+
+def sphere_faces(cen, r, nu=48, nv=24):
+    """The sphere as quads [m, 4, 3]."""
+    u = np.linspace(0, 2 * np.pi, nu + 1)
+    v = np.linspace(0, np.pi, nv + 1)
+    P = np.stack([np.outer(np.cos(u), np.sin(v)), np.outer(np.sin(u), np.sin(v)),
+                  np.outer(np.ones_like(u), np.cos(v))], axis=-1) * r + cen
+    quads = np.stack([P[:-1, :-1], P[1:, :-1], P[1:, 1:], P[:-1, 1:]], axis=2)
+    return quads.reshape(-1, 4, 3)
+
+
+def hidden_by(points, tris, d):
+    """For each point, whether the ray point + t d (t > 0) hits one of the triangles [m, 3, 3]
+    (Moller-Trumbore, vectorized in chunks)."""
+    hit = np.zeros(len(points), bool)
+    if len(tris) == 0:
+        return hit
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    p = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-18
+    v0, e1, e2, p, inv = v0[ok], e1[ok], e2[ok], p[ok], 1.0 / det[ok]
+    for s in range(0, len(points), 64):
+        o = points[s:s + 64, None, :] - v0[None]
+        u = np.einsum("kij,ij->ki", o, p) * inv
+        q = np.cross(o, e1[None])
+        v = (q @ d) * inv
+        t = np.einsum("kij,ij->ki", q, e2) * inv
+        hit[s:s + 64] = np.any((u >= 0) & (v >= 0) & (u + v <= 1) & (t > 1e-6), axis=1)
+    return hit
+
+
+def scene_box(out, info, frames):
+    """The box of every frame's vertices and of the colliders: the same axes for every picture."""
+    lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
+    for fr in frames:
+        x, _ = read_obj(os.path.join(out, "frames", "frame_%04d.obj" % fr))
+        lo, hi = np.minimum(lo, x.min(axis=0)), np.maximum(hi, x.max(axis=0))
     for c in info.get("colliders", []):
         if "sphere" in c:
-            s = c["sphere"]
-            cen, r = np.array(s["center"]), s["radius"]
-            u, v = np.mgrid[0:2 * np.pi:24j, 0:np.pi:12j]
-            ax.plot_wireframe(cen[0] + r * np.cos(u) * np.sin(v), cen[1] + r * np.sin(u) * np.sin(v),
-                              cen[2] + r * np.cos(v), color="0.6", linewidth=0.4)
+            cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
             lo, hi = np.minimum(lo, cen - r), np.maximum(hi, cen + r)
+    for c in info.get("colliders", []):
+        if "plane" in c and abs(c["plane"]["normal"][2]) > 0.9:
+            lo[2] = min(lo[2], c["plane"]["point"][2])
+    return lo, hi
+
+
+def render(obj, info, out_png, title, box, dpi=110):
+    x, f = read_obj(obj)
+    tris = x[f]
+    lo, hi = box
+    fig = plt.figure(figsize=(6, 5))
+    ax = fig.add_subplot(111, projection="3d")
+    ax.computed_zorder = False  # drawn in this order: floor, then cloth and colliders sorted together
     for c in info.get("colliders", []):
         if "plane" in c:
             p, nrm = np.array(c["plane"]["point"]), np.array(c["plane"]["normal"])
-            if abs(nrm[2]) > 0.9:  # draw horizontal floors only, under the scene
-                z = p[2] - (nrm[0] * 0 + nrm[1] * 0)
+            if abs(nrm[2]) > 0.9:  # horizontal floors only, under the scene
                 xs = np.array([[lo[0], hi[0]], [lo[0], hi[0]]])
                 ys = np.array([[lo[1], lo[1]], [hi[1], hi[1]]])
-                ax.plot_surface(xs, ys, np.full_like(xs, z), color="0.85", alpha=0.5)
-                lo[2] = min(lo[2], z)
-    pc = Poly3DCollection(tris, facecolors=shade(tris), edgecolors="none")
+                ax.plot_surface(xs, ys, np.full_like(xs, p[2]), color="0.85", alpha=0.5, zorder=0)
+    polys, colours = list(tris), list(shade(tris))
+    d = view_dir()
+    for c in info.get("colliders", []):
+        if "sphere" in c:
+            cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
+            q = sphere_faces(cen, r)
+            mid = q.mean(axis=1)
+            front = (mid - cen) @ d > 0  # the half facing the camera
+            q, mid = q[front], mid[front]
+            keep = ~hidden_by(mid + 1e-4 * r * d, tris, d)  # not behind the cloth
+            polys += list(q[keep])
+            colours += [(0.72, 0.74, 0.78)] * int(keep.sum())
+    pc = Poly3DCollection(polys, facecolors=colours, edgecolors=colours, linewidths=0.2, zorder=1)  # no seams
     ax.add_collection3d(pc)
     mid, half = (lo + hi) / 2, max((hi - lo).max() / 2, 1e-3)
     ax.set_xlim(mid[0] - half, mid[0] + half)
     ax.set_ylim(mid[1] - half, mid[1] + half)
     ax.set_zlim(mid[2] - half, mid[2] + half)
     ax.set_box_aspect((1, 1, 1))
-    ax.view_init(elev=22, azim=-60)
+    ax.view_init(elev=ELEV, azim=AZIM)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
     ax.set_title(title)
     fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
+    fig.savefig(out_png, dpi=dpi)
     plt.close(fig)
+
+
+def video(out, info, name, frames, box):
+    """OUT/sim.mp4 of the frames (at most 150, evenly spaced) through ffmpeg."""
+    ffmpeg = shutil.which("ffmpeg")
+    if not ffmpeg:
+        print("sim: no ffmpeg found: no MP4 written (Debian: apt-get install ffmpeg)", file=sys.stderr)
+        return
+    if len(frames) < 2:
+        return
+    pick = sorted(set(frames[int(round(i))] for i in np.linspace(0, len(frames) - 1, min(150, len(frames)))))
+    fps = max(2, min(30, round(len(pick) / 4)))  # a short run lasts about 4 s
+    tmp = tempfile.mkdtemp(prefix="video.", dir=out)
+    try:
+        for k, fr in enumerate(pick):
+            render(os.path.join(out, "frames", "frame_%04d.obj" % fr), info, os.path.join(tmp, "%05d.png" % k),
+                   "%s, frame %d" % (name, fr), box, dpi=80)
+        part = os.path.join(out, "sim.mp4.part")
+        cmd = [ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps), "-i", os.path.join(tmp, "%05d.png"),
+               "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-f", "mp4", part]
+        if subprocess.run(cmd).returncode == 0:
+            os.replace(part, os.path.join(out, "sim.mp4"))
+            print("sim: %s (%d frames at %d per second)" % (os.path.join(out, "sim.mp4"), len(pick), fps), file=sys.stderr)
+        else:
+            print("sim: ffmpeg failed: no MP4 written (%s)" % " ".join(cmd), file=sys.stderr)
+            if os.path.exists(part):
+                os.remove(part)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def stretch_plot(csv_path, out_png, name):
@@ -112,14 +207,20 @@ def main():
     info_path = os.path.join(out, "scene_info.json")
     info = json.load(open(info_path)) if os.path.exists(info_path) else {}
     name = info.get("name", "sim")
+    fdir = os.path.join(out, "frames")
+    written = sorted(int(n[6:-4]) for n in (os.listdir(fdir) if os.path.isdir(fdir) else [])
+                     if n.startswith("frame_") and n.endswith(".obj") and n[6:-4].isdigit())
+    box = scene_box(out, info, written) if written else None
     if frames:
         os.makedirs(os.path.join(out, "renders"), exist_ok=True)
     for fr in frames:
-        obj = os.path.join(out, "frames", "frame_%04d.obj" % fr)
-        if not os.path.exists(obj):
-            print("render_sim: %s missing, skipped" % obj, file=sys.stderr)
+        if fr not in written:
+            print("render_sim: %s missing, skipped" % os.path.join(fdir, "frame_%04d.obj" % fr), file=sys.stderr)
             continue
-        render(obj, info, os.path.join(out, "renders", "frame_%04d.png" % fr), "%s, frame %d" % (name, fr))
+        render(os.path.join(fdir, "frame_%04d.obj" % fr), info, os.path.join(out, "renders", "frame_%04d.png" % fr),
+               "%s, frame %d" % (name, fr), box)
+    if "--mp4" in args and written:
+        video(out, info, name, written, box)
     sc = os.path.join(out, "stretch.csv")
     if os.path.exists(sc):
         stretch_plot(sc, os.path.join(out, "stretch.png"), name)

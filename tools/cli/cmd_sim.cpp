@@ -87,7 +87,7 @@ void add_solver_options(CLI::App* cmd, sim::SimRunOptions& o) {
                   "its spinning workers slow the element loop more than they speed the factorization; "
                   "docs/benchmarks.md). Ignored with the reference BLAS")
       ->check(CLI::Range(1, 1024));
-  cmd->add_option("--render", o.render, "Frames to draw as PNG, e.g. 0,30,90, or none (default: the scene's)");
+  cmd->add_option("--render", o.render, "Frames to draw as PNG, e.g. 0,30,90, or none (default: the scene's); unless none, also OUT/sim.mp4 of every frame (with ffmpeg installed)");
   cmd->add_flag("--no-frames", o.no_frames, "Do not write an OBJ per frame (timing runs)");
   cmd->add_flag("--profile", o.profile, "Time each step's parts (strain, material, chain rule, projection, assembly, solve)");
   add_quiet_flag(cmd, o.quiet, "No progress line");

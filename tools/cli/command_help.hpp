@@ -85,8 +85,9 @@ inline constexpr CommandHelp kCommandHelp[] = {
    "Simulate cloth with a baked material (thin shell, spec section 10; docs/sim.md). SCENE is a built-in "
    "scene -- drape (a 0.5 m sheet falling onto a sphere), hang (a sheet held by two corners), stretch (a strip "
    "clamped at both ends, 5 cm x 10 cm stretched quasi-statically to 170 % unless --size and --stretch say otherwise) -- or a scene file (JSON). "
-   "Writes OUT/frames/frame_NNNN.obj, OUT/steps.csv (Newton iterations, energies, time per step), PNG "
-   "renders in OUT/renders/ and, for stretch, OUT/stretch.csv and OUT/stretch.png (force per clamp width "
+   "Writes OUT/frames/frame_NNNN.obj (texture coordinates in [0, 1]; the rest shape in OUT/rest.obj), OUT/steps.csv "
+   "(Newton iterations, energies, time per step), PNG renders in OUT/renders/, a video OUT/sim.mp4 (when ffmpeg "
+   "is installed) and, for stretch, OUT/stretch.csv and OUT/stretch.png (force per clamp width "
    "in N/m against stretch). Exit status 3 when the simulation becomes non-finite or a triangle leaves every "
    "physical strain (a material whose energy decreases outside its box)."},
   {"export-hylc",
