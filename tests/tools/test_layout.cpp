@@ -17,7 +17,7 @@ namespace {
 
 const std::vector<std::string> kRooms = {"core",      "numerics",   "io",      "material", "cpu",      "cuda",
                                          "train",     "bake",       "yarn/rod", "yarn/rve", "yarn/strip", "produce",
-                                         "sim",       "accuracy",   "pipeline", "tools"};
+                                         "sim",       "accuracy",   "pipeline", "tools",    "python"};
 
 // The room of a path relative to the source root ("yarn/rve/rve.hpp" -> index of "yarn/rve"), -1 if none.
 int room_of(const std::string& rel) {
