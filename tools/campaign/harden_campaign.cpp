@@ -34,6 +34,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -43,66 +44,13 @@
 #include "core/dataset.hpp"
 #include "tests/common/pattern_text.hpp"
 #include "tests/common/process_tree.hpp"
+#include "tools/campaign/campaign_util.hpp"
+#include "tools/campaign/campaign_parts.hpp"
 
-namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::string g_bin;
-
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::setpgid(0, 0);
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-struct Run {
-  int status;  // exit status; 128 + signal; 137 when the limit killed it
-  double seconds;
-  std::string out;
-};
-
-Run run(const std::vector<std::string>& args, double limit = 60) {
-  const std::string log = (fs::temp_directory_path() / ("campaign_" + std::to_string(::getpid()) + ".log")).string();
-  const auto t0 = Clock::now();
-  const pid_t pid = spawn(args, log);
-  int st = 0;
-  for (;;) {
-    const pid_t r = ::waitpid(pid, &st, WNOHANG);
-    if (r == pid) break;
-    if (since(t0) > limit) ::kill(-pid, SIGKILL);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  Run r{WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st), since(t0), ""};
-  std::ifstream in(log);
-  r.out.assign(std::istreambuf_iterator<char>(in), {});
-  fs::remove(log);
-  return r;
-}
-
-std::vector<std::string> cmd(std::initializer_list<std::string> a) {
-  std::vector<std::string> v = {g_bin};
-  v.insert(v.end(), a.begin(), a.end());
-  return v;
-}
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
+using namespace campaign;
 
 // Every array and scalar of two datasets, bit for bit.
 bool same_bits(const yarnhom::Dataset& a, const yarnhom::Dataset& b, std::string* why) {
@@ -124,13 +72,6 @@ bool same_bits(const yarnhom::Dataset& a, const yarnhom::Dataset& b, std::string
     }
   }
   return true;
-}
-
-int count_partials(const fs::path& dir) {
-  int n = 0;
-  for (auto& e : fs::directory_iterator(dir))
-    if (e.path().filename().string().find(".partial-") != std::string::npos) ++n;
-  return n;
 }
 
 // ---------------- A. killed produce ----------------
@@ -209,20 +150,6 @@ void campaign_resume(const std::string& pattern, int kills, std::mt19937_64& rng
 }
 
 // ---------------- B. clobbering ----------------
-unsigned file_type(const std::string& p) {
-  struct stat st;
-  return ::lstat(p.c_str(), &st) == 0 ? (st.st_mode & S_IFMT) : 0;
-}
-
-// An empty folder `dir` holding a small synthetic dataset d.h5 and a 2-epoch model m.h5 of two terms.
-fs::path fresh_model_dir(const fs::path& dir) {
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  run(cmd({"synth", "-o", (dir / "d.h5").string()}));
-  run(cmd({"train-all", (dir / "d.h5").string(), "-o", (dir / "m.h5").string(), "--epochs", "2", "--terms", "0,02", "-q"}));
-  return dir;
-}
-
 void campaign_clobber(const fs::path& work, const std::string& pattern) {
   const fs::path dir = fresh_model_dir(work / "clobber");
   auto p = [&](const std::string& f) { return (dir / f).string(); };
@@ -483,9 +410,52 @@ void campaign_pipeline(const fs::path& work, int kills, std::mt19937_64& rng) {
 
 }  // namespace
 
+// An empty folder `dir` holding a small synthetic dataset d.h5 and a 2-epoch model m.h5 of two terms.
+fs::path campaign::fresh_model_dir(const fs::path& dir) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  run(cmd({"synth", "-o", (dir / "d.h5").string()}));
+  run(cmd({"train-all", (dir / "d.h5").string(), "-o", (dir / "m.h5").string(), "--epochs", "2", "--terms", "0,02", "-q"}));
+  return dir;
+}
+
+// Runs one part in a child whose output goes to WORK/done/PART.log, renamed from .partial when
+// the part ends: a campaign interrupted and started again with the same --work prints the parts
+// it finished from their logs and runs only the others.
+bool run_part(char part, const std::string& parts, const fs::path& work, const std::function<void()>& body) {
+  if (parts.find(part) == std::string::npos) return true;
+  const fs::path done = work / "done" / (std::string(1, part) + ".log");
+  fs::create_directories(done.parent_path());
+  if (!fs::exists(done)) {
+    std::fflush(stdout);
+    const std::string partial = done.string() + ".partial";
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const int fd = ::open(partial.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+      body();
+      std::fflush(stdout);
+      ::_exit(0);
+    }
+    int st = 0;
+    ::waitpid(pid, &st, 0);
+    if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+      std::printf("part %c did not finish (status %d); its log so far: %s\n", part, st, partial.c_str());
+      return false;
+    }
+    fs::rename(partial, done);
+  } else {
+    std::printf("(part %c: finished by an earlier, interrupted run of the campaign)\n", part);
+  }
+  std::fputs(slurp(done.string()).c_str(), stdout);
+  std::fflush(stdout);
+  return true;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"issue 11's hardening campaign against a yarnhom binary (minutes; not a test)"};
-  std::string pattern, work = (fs::temp_directory_path() / "yarnhom_campaign").string(), parts = "ABCD";
+  std::string pattern, work = (fs::temp_directory_path() / "yarnhom_campaign").string(), parts = "ABCDEFG";
   int kills = 30, pipeline_kills = 14;
   uint64_t seed = 1;
   app.add_option("--yarnhom", g_bin, "The yarnhom binary to test")->required()->check(CLI::ExistingFile);
@@ -495,20 +465,59 @@ int main(int argc, char** argv) {
   app.add_option("--kills", kills, "Kills of produce (A)");
   app.add_option("--pipeline-kills", pipeline_kills, "Kills of pipeline (D)");
   app.add_option("--seed", seed, "Seed of the kill moments");
-  app.add_option("--work", work, "Scratch folder (removed at the end)");
-  app.add_option("--parts", parts, "Which parts to run, e.g. AC");
+  app.add_option("--work", work, "Scratch folder: a campaign interrupted and started again with the same one runs only the parts it had not finished (removed at the end)");
+  bool keep = false;
+  app.add_flag("--keep", keep, "Keep the scratch folder at the end (to look at an input that failed)");
+  app.add_option("--parts", parts, "Which parts to run, e.g. AC (default ABCDEFG)");
+  campaign::NewPartsOptions nopt;
+  app.add_option("--strip-pattern", nopt.strip_pattern,
+                 "A pattern strip holds together at 3.5 x 2.7 mm (the tests' ../shared/patterns/stocktiny.pyp): "
+                 "parts E-G's strip, accuracy and study runs")
+      ->check(CLI::ExistingFile);
+  app.add_option("--scene-mutants", nopt.scene_mutants, "Scene-file mutants (E2)");
+  app.add_option("--hylc-mutants", nopt.hylc_mutants, "HYLC material JSON mutants (E3)");
+  app.add_option("--baked-mutants", nopt.baked_mutants, "Baked files with a corrupted byte (E5)");
+  app.add_option("--sim-kills", nopt.sim_kills, "Kills of sim (G)");
+  app.add_option("--strip-kills", nopt.strip_kills, "Kills of strip (G)");
+  app.add_option("--accuracy-kills", nopt.accuracy_kills, "Kills of accuracy (G)");
   CLI11_PARSE(app, argc, argv);
   g_bin = fs::absolute(g_bin).string();
   pattern = fs::absolute(pattern).string();
   fs::create_directories(work);
-  std::mt19937_64 rng(seed);
-  std::printf("campaign: %s, pattern %s, seed %llu\n\n", g_bin.c_str(), pattern.c_str(), (unsigned long long)seed);
+  if (nopt.strip_pattern.empty()) {
+    const fs::path tiny = fs::path(pattern).parent_path() / "stocktiny.pyp";
+    nopt.strip_pattern = fs::exists(tiny) ? tiny.string() : std::string();
+  }
+  if (nopt.strip_pattern.empty() && parts.find_first_of("EFG") != std::string::npos) {
+    std::fprintf(stderr, "parts E-G need --strip-pattern (stocktiny.pyp was not found beside --pattern)\n");
+    return 1;
+  }
+  nopt.strip_pattern = fs::absolute(nopt.strip_pattern).string();
+  nopt.check_pattern = pattern;
+  std::printf("campaign: %s, pattern %s, strip pattern %s, seed %llu, parts %s, work %s\n\n", g_bin.c_str(),
+              pattern.c_str(), nopt.strip_pattern.c_str(), (unsigned long long)seed, parts.c_str(), work.c_str());
   const auto t0 = Clock::now();
-  if (parts.find('A') != std::string::npos) campaign_resume(pattern, kills, rng, work);
-  if (parts.find('B') != std::string::npos) campaign_clobber(work, pattern);
-  if (parts.find('C') != std::string::npos) campaign_refusals(work, pattern);
-  if (parts.find('D') != std::string::npos) campaign_pipeline(work, pipeline_kills, rng);
-  std::printf("campaign: %.0f s\n", since(t0));
-  fs::remove_all(work);
+  // Each part its own generator (part A's is the seed's, as before parts E-G existed).
+  auto rng_of = [&](char part) { return std::mt19937_64(part == 'A' ? seed : seed * 1000 + uint64_t(part)); };
+  const fs::path w = work;
+  bool ok = true;
+  // In the order --parts gives them (the new parts first, for instance: EFGBCDA).
+  for (char part : parts) {
+    std::function<void()> body;
+    switch (part) {
+      case 'A': body = [&] { auto r = rng_of('A'); campaign_resume(pattern, kills, r, w); }; break;
+      case 'B': body = [&] { campaign_clobber(w, pattern); }; break;
+      case 'C': body = [&] { campaign_refusals(w, pattern); }; break;
+      case 'D': body = [&] { auto r = rng_of('D'); campaign_pipeline(w, pipeline_kills, r); }; break;
+      case 'E': body = [&] { auto r = rng_of('E'); campaign::part_e_refusals(w, nopt, r); }; break;
+      case 'F': body = [&] { campaign::part_f_outputs(w, nopt); }; break;
+      case 'G': body = [&] { auto r = rng_of('G'); campaign::part_g_kills(w, nopt, r); }; break;
+      default: std::fprintf(stderr, "--parts: no part %c (A-G)\n", part); return 1;
+    }
+    ok &= run_part(part, parts, w, body);
+  }
+  std::printf("campaign: %.0f s in this run\n", since(t0));
+  if (!ok) return 1;
+  if (!keep) fs::remove_all(work);
   return 0;
 }
