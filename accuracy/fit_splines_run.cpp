@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 #include "core/baked.hpp"
@@ -17,7 +18,15 @@ void run_fit_splines(const FitSplinesOptions& o) {
   prepare_output(o.out, {o.data});
   const Dataset ds = read_dataset(o.data);
   std::vector<SplineFitReport> reports;
-  const BakedModel m = fit_splines(ds, o.data, fit, &reports);
+  BakedModel m;
+  try {
+    m = fit_splines(ds, o.data, fit, &reports);
+  } catch (const std::runtime_error& e) {  // a term without a fit: name the file and the weights that led there
+    char buf[200];
+    std::snprintf(buf, sizeof buf, " (--smoothing %g, --gradient-weight %g%s)", fit.smoothing, fit.gradient_weight,
+                  fit.monotone ? "; --no-monotone drops the monotone constraint" : "");
+    throw std::runtime_error(o.data + ": " + e.what() + buf);
+  }
   write_baked(o.out, m);
   std::printf("term  knots   energy RMSE/range  grad err/mean  monotone (minimum knot, active constraints)\n");
   for (const SplineFitReport& r : reports) {

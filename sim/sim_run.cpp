@@ -296,7 +296,22 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
                friction_description(s).c_str(), threads, numerics::blas_description());
   if (mat.guard && !o.quiet) std::fprintf(stderr, "sim %s: %s\n", s.name.c_str(), describe(*mat.guard).c_str());
   const auto start = Clock::now();
-  SimRunOutcome out{s.name, s.render_frames, run_simulation(s, mat.fn, rho, set, progress_line(o, s, start))};
+  // What the simulation refuses at its start (a vertex inside a collider, a collider's friction)
+  // comes from the scene: the message names it (it named neither the scene file nor the key).
+  auto simulate = [&] {
+    try {
+      return run_simulation(s, mat.fn, rho, set, progress_line(o, s, start));
+    } catch (const std::invalid_argument& e) {
+      const bool file = o.scene.size() > 5 && o.scene.substr(o.scene.size() - 5) == ".json";
+      std::string what = e.what();
+      const size_t at = what.find("inside collider ");
+      if (at != std::string::npos)
+        what += " (" + std::string(file ? "the scene's colliders[" : "the built-in scene's collider ") + what.substr(at + 16) +
+                (file ? "]" : "") + "; every vertex must start outside every collider)";
+      throw std::invalid_argument((file ? o.scene : "sim " + o.scene) + ": " + what);
+    }
+  };
+  SimRunOutcome out{s.name, s.render_frames, simulate()};
   if (stderr_is_tty() && !o.quiet) std::fprintf(stderr, "\n");
   print_summary(o, s, set, out.result, std::chrono::duration<double>(Clock::now() - start).count());
   return out;

@@ -13,12 +13,12 @@ void register_fit_splines(CLI::App& app) {
   cmd->add_option("--knots2d", o->fit.knots2d, "Knots per axis of a 2D spline (HYLC: 8 to 10)")->check(CLI::Range(3, 200))->capture_default_str();
   cmd->add_option("--smoothing", o->fit.smoothing,
                   "Weight of the curvature penalty (per sample, energies over their standard "
-                  "deviation, strains over the box width)")
-      ->check(finite_non_negative())
+                  "deviation, strains over the box width), in [0, 1e6]")
+      ->check(finite_range(0, 1e6, "in [0, 1e6]"))
       ->capture_default_str();
   cmd->add_option("--gradient-weight", o->fit.gradient_weight,
-                  "Weight of the gradient residuals against the energy residuals (same units)")
-      ->check(finite_non_negative())
+                  "Weight of the gradient residuals against the energy residuals (same units), in [0, 1e6]")
+      ->check(finite_range(0, 1e6, "in [0, 1e6]"))
       ->capture_default_str();
   cmd->add_flag("--no-monotone", o->no_monotone, "Do not constrain 1D terms to be monotone away from their minimum");
   cmd->callback([o] { run_fit_splines(*o); });

@@ -1,6 +1,9 @@
 // yarnhom study table5 | bake-resolution | strip-width | rve-size: the supplement's accuracy
 // tables as commands (docs/accuracy.md; pipeline/study.hpp). Each runs the accuracy test for
 // several patterns, directions or materials, cached and resumable stage by stage.
+#include <cstdio>
+#include <stdexcept>
+
 #include "pipeline/study.hpp"
 #include "tools/cli/accuracy_options.hpp"
 #include "tools/cli/cli_util.hpp"
@@ -33,17 +36,24 @@ void check_strip_width(const pipeline::StripWidthOptions& o) {
   pipeline::AccuracyOptions a = o.acc;
   a.dataset = o.dataset;
   a.baked = o.baked;
-  std::vector<std::string> sizes;
   for (double w : o.widths) {
     char sz[64];
     std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);  // as the study passes them
-    sizes.push_back(sz);
+    try {
+      check_accuracy_run(a, {o.pattern}, {o.direction}, {sz});
+    } catch (const std::exception& e) {  // the study's own options, not only the stage's --size they became
+      char what[96];
+      std::snprintf(what, sizeof what, "--widths %g with --length %g: ", w, o.length);
+      throw std::invalid_argument(what + std::string(e.what()));
+    }
   }
-  check_accuracy_run(a, {o.pattern}, {o.direction}, sizes);
 }
 
 void add_table5_options(CLI::App* cmd, pipeline::Table5Options& o) {
-  cmd->add_option("PATTERNS", o.patterns, "Pattern files (.pyp) or built-in names: the paper's are basket, stockinette, slip_stitch_honeycomb, cartridge_belt_rib")
+  cmd->add_option("PATTERNS", o.patterns,
+                  "Pattern files (.pyp) or built-in names (" + yarn::builtin_pattern_list() +
+                      "); the paper's Table 5: basket stockinette slip_stitch_honeycomb.pyp cartridge_belt_rib.pyp "
+                      "(the last two the published files, README 'Patterns')")
       ->required();
   cmd->add_option("--directions", o.directions, "Directions to test (comma-separated or repeated)")->delimiter(',')->check(CLI::IsMember({"course", "wale"}))->capture_default_str();
   add_output_option(cmd, o.out, "Output folder (created)");
@@ -69,7 +79,7 @@ void add_strip_width_options(CLI::App* cmd, pipeline::StripWidthOptions& o) {
 }
 
 void add_rve_size_options(CLI::App* cmd, pipeline::RveSizeOptions& o) {
-  add_pattern_argument(cmd, o.pattern, "Pattern file (.pyp)")->check(existing_regular_file());
+  add_pattern_argument(cmd, o.pattern, "Pattern (.pyp file or built-in name)");
   cmd->add_option("--tiles", o.tiles, "Patch sizes n (n x n tiles; comma-separated or repeated)")->delimiter(',')->check(CLI::Range(1, 8))->capture_default_str();
   add_direction_option(cmd, o.direction)->capture_default_str();
   add_output_option(cmd, o.out, "Output folder (created)");
