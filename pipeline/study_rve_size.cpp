@@ -10,6 +10,7 @@
 #include "pipeline/stage_runner.hpp"
 #include "pipeline/study.hpp"
 #include "pipeline/study_util.hpp"
+#include "yarn/rod/load_pattern.hpp"
 #include "yarn/rod/pattern.hpp"
 
 namespace yarnhom::pipeline {
@@ -23,10 +24,11 @@ namespace {
 double produce_patch(const RveSizeOptions& o, const fs::path& sub, int n, const std::string& ds) {
   fs::create_directories(sub);
   // The patch, under the pattern's own file name (produce takes the paper's bending range
-  // from it).
-  const fs::path patch = sub / fs::path(o.pattern).filename();
-  if (!fs::exists(patch) || fs::last_write_time(patch) < fs::last_write_time(o.pattern))
-    yarn::write_pyp(patch.string(), yarn::tile(yarn::read_pyp(o.pattern), n, n));
+  // from it; a built-in pattern under its name, e.g. stockinette.pyp).
+  const bool file = fs::exists(o.pattern);
+  const fs::path patch = sub / (file ? fs::path(o.pattern).filename() : fs::path(o.pattern + ".pyp"));
+  if (!fs::exists(patch) || (file && fs::last_write_time(patch) < fs::last_write_time(o.pattern)))
+    yarn::write_pyp(patch.string(), yarn::tile(yarn::load_pattern(o.pattern), n, n));
   const StageOutcome po =
       run_stage(sub, {"produce", produce_stage_args(patch.string(), ds, o.acc.preset, o.acc.threads), {patch.string()}, {ds}},
                 o.acc.force);

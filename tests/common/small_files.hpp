@@ -34,14 +34,14 @@ struct TempDir {
   std::string operator/(const std::string& f) const { return (dir / f).string(); }
 };
 
-// The built-in stockinette (16 vertices) as a .pyp file with every block.
-inline void write_small_pattern(const std::string& path) { yarn::write_pyp(path, yarn::builtin_pattern("stockinette")); }
+// The tiny generated stockinette (16 vertices, 0.1 mm yarn) as a .pyp file with every block.
+inline void write_small_pattern(const std::string& path) { yarn::write_pyp(path, yarn::generate_stockinette({})); }
 
 // The same with a rest curvature on every vertex (0.05, 0): a pattern whose loops are not all
 // straight at rest, which strip accepts at any size (yarn/strip/strip_run.cpp). For tests of
 // option checks only: it is no pattern's real rest state.
 inline void write_curved_pattern(const std::string& path) {
-  yarn::Pattern p = yarn::builtin_pattern("stockinette");
+  yarn::Pattern p = yarn::generate_stockinette({});
   for (auto& k : p.rest_kappa) k = Eigen::Vector2d(0.05, 0.0);
   yarn::write_pyp(path, p);
 }

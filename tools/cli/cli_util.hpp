@@ -20,6 +20,7 @@
 #include "tools/cli/command_help.hpp"
 #include "tools/cli/commands.hpp"
 #include "train/backend.hpp"
+#include "yarn/rod/generate.hpp"
 
 namespace yarnhom::tools {
 
@@ -130,9 +131,14 @@ inline std::set<std::string> given_options(const CLI::App& cmd) {
 }
 
 // Option groups that several commands declare alike.
-inline CLI::Option* add_pattern_argument(CLI::App* cmd, std::string& pattern,
-                                         const std::string& help = "A .pyp file, or a built-in pattern: basket, plain, stockinette") {
-  return cmd->add_option("PATTERN", pattern, help)->required();
+// PATTERN: a .pyp file or a built-in name; the help names exactly the built-in patterns
+// (yarn::builtin_pattern_names), after the command's own words when it gives them.
+inline CLI::Option* add_pattern_argument(CLI::App* cmd, std::string& pattern, const std::string& help = "") {
+  const std::string names = yarn::builtin_pattern_list();
+  return cmd
+      ->add_option("PATTERN", pattern,
+                   help.empty() ? "A .pyp file, or a built-in pattern: " + names : help + " (built-in: " + names + ")")
+      ->required();
 }
 inline CLI::Option* add_output_option(CLI::App* cmd, std::string& out, const std::string& help,
                                       const std::string& flags = "-o,--output") {

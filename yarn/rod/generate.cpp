@@ -1,34 +1,11 @@
 #include "yarn/rod/generate.hpp"
 
+#include "yarn/rod/pattern_build.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace yarnhom::yarn {
-namespace {
-
-// Appends one closed yarn given its unwrapped polyline over exactly one period (the point
-// after the last is the first shifted by `period_shift` tiles), wrapping vertices into the
-// tile [-px/2, px/2) x [-py/2, py/2) and recording edge offsets.
-void add_yarn(Pattern& pat, const std::vector<Eigen::Vector3d>& pts, Eigen::Vector2i period_shift) {
-  const int base = pat.size(), n = static_cast<int>(pts.size());
-  std::vector<Eigen::Vector2i> cell(n);
-  for (int k = 0; k < n; ++k) {
-    const int cx = static_cast<int>(std::floor(pts[k][0] / pat.px + 0.5));
-    const int cy = static_cast<int>(std::floor(pts[k][1] / pat.py + 0.5));
-    cell[k] = {cx, cy};
-    pat.x.push_back(pts[k] - Eigen::Vector3d(cx * pat.px, cy * pat.py, 0));
-    pat.theta.push_back(0.0);
-  }
-  for (int k = 0; k < n; ++k) {
-    const int next = (k + 1) % n;
-    const Eigen::Vector2i cn = cell[next] + (k + 1 == n ? period_shift : Eigen::Vector2i::Zero());
-    const Eigen::Vector2i o = cn - cell[k];
-    if (o.cwiseAbs().maxCoeff() > 1) throw std::invalid_argument("generator: an edge spans more than one tile");
-    pat.edges.push_back({base + k, base + next, o[0], o[1]});
-  }
-}
-
-}  // namespace
 
 Pattern generate_woven(const WovenParams& prm) {
   if (prm.group < 1 || prm.group > 2) throw std::invalid_argument("woven: group must be 1 (plain) or 2 (basket)");
@@ -81,14 +58,77 @@ Pattern generate_stockinette(const StockinetteParams& prm) {
   std::vector<Eigen::Vector3d> pts;
   for (int k = 0; k < prm.samples; ++k) {
     const double th = -M_PI + 2 * M_PI * k / prm.samples;
-    pts.emplace_back(w / (2 * M_PI) * (th + prm.bulb * std::sin(2 * th)), b * std::cos(th), -c * std::cos(2 * th));
+    pts.emplace_back(w / (2 * M_PI) * (th + prm.bulb * std::sin(2 * th)), b * std::cos(th) + prm.waist * std::cos(3 * th),
+                     -c * std::cos(2 * th));
   }
   add_yarn(pat, pts, {1, 0});
-  complete_rest_state(pat);
+  if (prm.rest_from_shape)
+    set_rest_to_shape(pat);
+  else
+    complete_rest_state(pat);
   return pat;
 }
 
-std::vector<std::string> builtin_pattern_names() { return {"basket", "plain", "stockinette"}; }
+namespace {
+
+// The paper's patterns (Sperl et al. 2021, used by Feng et al. 2024) at their scale: yarn radius
+// 1 mm, the periods of the published tiles. Shape parameters in radii, chosen so that the
+// generated tile's yarn length and relaxed rest energy match the published tile
+// (tests/yarn/rod/test_paper_patterns.cpp compares them).
+Pattern paper_basket() {
+  const double r = 1e-3;
+  WeaveParams p;
+  p.name = "basket";
+  p.radius = r;
+  p.px = 10.7037e-3;
+  p.py = 10.3e-3;
+  p.weave = {"1100", "1100", "0011", "0011"};
+  p.weft_amplitude = 1.455 * r;
+  p.warp_amplitude = 1.325 * r;
+  p.flatness = 1.0 / 6;
+  p.samples_weft = p.samples_warp = 10;
+  return generate_weave(p);
+}
+
+Pattern paper_satin() {
+  const double r = 1e-3;
+  WeaveParams p;
+  p.name = "satin";
+  p.radius = r;
+  p.px = 11.1111e-3;
+  p.py = 11.0185e-3;
+  // Five-harness satin: weft i passes over warp 3i mod 5 only.
+  for (int i = 0; i < 5; ++i) {
+    std::string row(5, '0');
+    row[(3 * i) % 5] = '1';
+    p.weave.push_back(row);
+  }
+  p.weft_amplitude = p.warp_amplitude = 2.12 * r;
+  p.float_lift = 1.5 * r;
+  p.samples_weft = p.samples_warp = 13;
+  return generate_weave(p);
+}
+
+// One loop of the published 2 x 2-loop tile (15.05 x 7.93 mm): the same fabric, a quarter of
+// the unknowns.
+Pattern paper_stockinette() {
+  const double r = 1e-3;
+  StockinetteParams p;
+  p.radius = r;
+  p.wale = 15.0513e-3 / 2;
+  p.course = 7.93099e-3 / 2;
+  p.loop_height = 3.3 * r;
+  p.depth = 0.975 * r;
+  p.bulb = 1.7;
+  p.waist = -0.2 * r;
+  p.samples = 24;
+  p.rest_from_shape = true;
+  return generate_stockinette(p);
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_pattern_names() { return {"basket", "plain", "satin", "stockinette"}; }
 
 bool is_builtin_pattern(const std::string& name) {
   for (const auto& n : builtin_pattern_names())
@@ -96,15 +136,22 @@ bool is_builtin_pattern(const std::string& name) {
   return false;
 }
 
+std::string builtin_pattern_list() {
+  std::string names;
+  for (const auto& n : builtin_pattern_names()) names += (names.empty() ? "" : ", ") + n;
+  return names;
+}
+
 Pattern builtin_pattern(const std::string& name) {
-  if (name == "basket") return generate_woven({});
+  if (name == "basket") return paper_basket();
   if (name == "plain") {
     WovenParams p;
     p.group = 1;
     return generate_woven(p);
   }
-  if (name == "stockinette") return generate_stockinette({});
-  throw std::invalid_argument("unknown built-in pattern '" + name + "' (known: basket, plain, stockinette)");
+  if (name == "satin") return paper_satin();
+  if (name == "stockinette") return paper_stockinette();
+  throw std::invalid_argument("unknown built-in pattern '" + name + "' (known: " + builtin_pattern_list() + ")");
 }
 
 }  // namespace yarnhom::yarn

@@ -32,12 +32,37 @@ struct StockinetteParams {
   double depth = 0.0;         // c (m); 0: 1.2 radii
   double bulb = 1.1;          // a: how far the head overhangs the legs
   int samples = 16;           // vertices per loop
+  double waist = 0.0;         // m: y += waist cos 3th (narrows the loop's neck where < 0)
+  bool rest_from_shape = false;  // rest state: the generated shape (set_rest_to_shape), else straight
 };
 Pattern generate_stockinette(const StockinetteParams& p);
 
-// "basket", "plain", "stockinette": the built-in patterns with default parameters.
+// A woven tile from its weave matrix: weft i (along x, i = 0 at the bottom) passes over warp j
+// (along y, j = 0 at the left) where weave[i][j] is '1'. Parallel yarns are evenly spaced; a
+// yarn's height is the lift times the mean of its sides (+1 over, -1 under: a float rides
+// high) plus the amplitude times the fundamental harmonic of its over/under sequence (flattened by
+// its third harmonic where `flatness` > 0). The rest
+// state is the generated shape (set_rest_to_shape): yarn set by weaving, which the relaxation
+// at rest then presses into contact. gen_weave.cpp.
+struct WeaveParams {
+  std::string name = "weave";
+  double radius = 1e-3;             // m
+  double px = 0, py = 0;            // tile periods (m)
+  std::vector<std::string> weave;   // rows of '0'/'1', one per weft
+  double weft_amplitude = 0, warp_amplitude = 0;  // m
+  double float_lift = 0;            // m
+  double flatness = 0;              // k in [0, 1/6]: the profile (cos - k cos 3) / (1 - k), flat-topped floats
+  int samples_weft = 0, samples_warp = 0;  // vertices per yarn; 0: about one per 1.2 radii
+};
+Pattern generate_weave(const WeaveParams& p);
+
+// The built-in patterns: "plain" (the tiny 0.1 mm plain weave above, straight yarn at rest) and
+// the paper's patterns generated at the paper's scale (1 mm yarn radius, the periods of the
+// published tiles; the rest state the generated shape): "basket", "satin", "stockinette", and
+// the knits that builtin_pattern_names lists.
 std::vector<std::string> builtin_pattern_names();
 bool is_builtin_pattern(const std::string& name);
 Pattern builtin_pattern(const std::string& name);  // throws std::invalid_argument, naming them
+std::string builtin_pattern_list();                // "basket, plain, ...": for messages and --help
 
 }  // namespace yarnhom::yarn

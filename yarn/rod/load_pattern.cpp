@@ -14,9 +14,8 @@ Pattern load_pattern(const std::string& name_or_path) {
     return read_pyp(name_or_path);
   }
   if (is_builtin_pattern(name_or_path)) return builtin_pattern(name_or_path);
-  std::string names;
-  for (const auto& n : builtin_pattern_names()) names += (names.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("pattern '" + name_or_path + "' is neither a file nor a built-in pattern (" + names + ")");
+  throw std::invalid_argument("pattern '" + name_or_path + "' is neither a file nor a built-in pattern (" +
+                              builtin_pattern_list() + ")");
 }
 
 }  // namespace yarnhom::yarn
