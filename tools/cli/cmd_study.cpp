@@ -1,6 +1,9 @@
 // yarnhom study table5 | bake-resolution | strip-width | rve-size: the supplement's accuracy
 // tables as commands (docs/accuracy.md; pipeline/study.hpp). Each runs the accuracy test for
 // several patterns, directions or materials, cached and resumable stage by stage.
+#include <cstdio>
+#include <stdexcept>
+
 #include "pipeline/study.hpp"
 #include "tools/cli/accuracy_options.hpp"
 #include "tools/cli/cli_util.hpp"
@@ -33,13 +36,17 @@ void check_strip_width(const pipeline::StripWidthOptions& o) {
   pipeline::AccuracyOptions a = o.acc;
   a.dataset = o.dataset;
   a.baked = o.baked;
-  std::vector<std::string> sizes;
   for (double w : o.widths) {
     char sz[64];
     std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);  // as the study passes them
-    sizes.push_back(sz);
+    try {
+      check_accuracy_run(a, {o.pattern}, {o.direction}, {sz});
+    } catch (const std::exception& e) {  // the study's own options, not only the stage's --size they became
+      char what[96];
+      std::snprintf(what, sizeof what, "--widths %g with --length %g: ", w, o.length);
+      throw std::invalid_argument(what + std::string(e.what()));
+    }
   }
-  check_accuracy_run(a, {o.pattern}, {o.direction}, sizes);
 }
 
 void add_table5_options(CLI::App* cmd, pipeline::Table5Options& o) {
