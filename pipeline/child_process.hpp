@@ -11,6 +11,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <ctime>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,9 +21,10 @@ namespace yarnhom::pipeline {
 // Runs argv (argv[0] looked up in PATH when it has no '/') and waits for it. Its stdout goes
 // to out_path and its stderr to err_path ("" keeps this process's; the same path twice shares
 // one file). Returns the exit status, 128 + the signal when a signal ended it, 127 when it
-// could not be started.
+// could not be started. `tick`, when given, is called about 4 times a second while the child
+// runs (a stage runner relays the child's progress line with it).
 inline int run_child(const std::vector<std::string>& argv, const std::string& out_path = "",
-                     const std::string& err_path = "") {
+                     const std::string& err_path = "", const std::function<void()>& tick = {}) {
   // Everything the child needs is prepared before fork: after it only async-signal-safe calls.
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -49,8 +52,19 @@ inline int run_child(const std::vector<std::string>& argv, const std::string& ou
     ::_exit(127);
   }
   int st = 0;
-  while (::waitpid(pid, &st, 0) < 0)
-    if (errno != EINTR) return 127;
+  if (tick) {
+    for (int k = 0;; ++k) {
+      const pid_t r = ::waitpid(pid, &st, WNOHANG);
+      if (r == pid) break;
+      if (r < 0 && errno != EINTR) return 127;
+      if (k % 5 == 4) tick();
+      const timespec pause{0, 50'000'000};
+      ::nanosleep(&pause, nullptr);
+    }
+  } else {
+    while (::waitpid(pid, &st, 0) < 0)
+      if (errno != EINTR) return 127;
+  }
   if (WIFEXITED(st)) return WEXITSTATUS(st);
   if (WIFSIGNALED(st)) return 128 + WTERMSIG(st);
   return 127;

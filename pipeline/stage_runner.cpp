@@ -1,7 +1,15 @@
 #include "pipeline/stage_runner.hpp"
 
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <functional>
 #include <stdexcept>
 
 #include "core/console.hpp"
@@ -26,6 +34,38 @@ void add_count_option(std::vector<std::string>& args, const char* flag, int valu
   args.push_back(std::to_string(value));
 }
 
+namespace {
+
+// The child's latest progress line in its log (the last piece, between '\r' or '\n', that
+// says "ETA" or "elapsed"), "" when there is none yet.
+std::string latest_progress(const std::string& log) {
+  std::ifstream in(log, std::ios::binary | std::ios::ate);
+  if (!in) return "";
+  const std::streamoff size = in.tellg(), n = std::min<std::streamoff>(size, 4096);
+  std::string tail(size_t(n), '\0');
+  in.seekg(size - n);
+  in.read(tail.data(), n);
+  size_t end = tail.size();
+  while (end > 0) {
+    const size_t b = tail.find_last_of("\r\n", end - 1);
+    const size_t from = b == std::string::npos ? 0 : b + 1;
+    std::string piece = tail.substr(from, end - from);
+    while (!piece.empty() && piece.back() == ' ') piece.pop_back();
+    if (piece.find("ETA") != std::string::npos || piece.find("elapsed") != std::string::npos) return piece;
+    if (b == std::string::npos) break;
+    end = b;
+  }
+  return "";
+}
+
+// The terminal's width (columns), 120 when it does not say.
+int terminal_columns() {
+  winsize w{};
+  return ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col > 20 ? w.ws_col : 120;
+}
+
+}  // namespace
+
 StageOutcome run_stage_child(const fs::path& dir, const StageSpec& s, bool force, int width) {
   fs::create_directories(dir / "logs");
   fs::create_directories(dir / ".stages");
@@ -40,14 +80,37 @@ StageOutcome run_stage_child(const fs::path& dir, const StageSpec& s, bool force
     std::printf("  %-*s skipped (up to date)\n", width, s.name.c_str());
     return out;
   }
-  std::printf("  %-*s running (%s) ...", width, s.name.c_str(), d.reason.c_str());
+  char head[400];
+  std::snprintf(head, sizeof head, "  %-*s running (%s) ...", width, s.name.c_str(), d.reason.c_str());
+  std::printf("%s", head);
   std::fflush(stdout);
   std::vector<std::string> argv = {self_executable()};
   argv.insert(argv.end(), s.args.begin(), s.args.end());
   const auto t0 = std::chrono::steady_clock::now();
-  out.status = run_child(argv, s.stdout_file.empty() ? out.log : s.stdout_file, out.log);
+  // On a terminal the line shows the stage's own progress line (its log's latest, with its ETA),
+  // redrawn in place; in a file or a pipe the output stays as it was.
+  const bool tty = ::isatty(STDOUT_FILENO) == 1;
+  bool shown = false;
+  std::function<void()> relay;
+  char short_head[80];
+  std::snprintf(short_head, sizeof short_head, "  %-*s ", width, s.name.c_str());
+  if (tty) {
+    ::setenv("YARNHOM_PROGRESS_SECONDS", "1", 0);  // the children's progress lines once a second
+    relay = [&] {
+      std::string p = latest_progress(out.log);
+      if (p.empty()) return;
+      if (p.rfind(s.args[0] + " ", 0) == 0) p = p.substr(s.args[0].size() + 1);  // "produce NAME: ..." once
+      const size_t room = size_t(std::max(20, terminal_columns() - 1 - int(std::strlen(short_head))));
+      if (p.size() > room) p = p.substr(0, room - 3) + "...";
+      std::printf("\r%s%s\x1b[K", short_head, p.c_str());
+      std::fflush(stdout);
+      shown = true;
+    };
+  }
+  out.status = run_child(argv, s.stdout_file.empty() ? out.log : s.stdout_file, out.log, relay);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.ran = true;
+  if (shown) std::printf("\r%s\x1b[K", head);  // the caller or the line below ends it
   if (out.status != 0) return out;
   write_stage_stamp(stamp, settings);
   std::printf(" done in %s\n", format_seconds(out.seconds).c_str());

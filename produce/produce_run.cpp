@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -84,23 +85,41 @@ ProduceOptions produce_options(const ProduceRunOptions& o) {
   return opt;
 }
 
-// Progress lines on stderr: redrawn in place on a terminal (5 a second), else every 10 s.
+// Progress lines on stderr: redrawn in place on a terminal (5 a second), else every 10 s. The
+// ETA is that of the pass it names: the node pass, then each round of the branch pass (whose
+// number of rounds is not known in advance: they go on while nodes move to a lower branch;
+// the README demo's took 2.5x the node pass in 12 rounds), so the line says which.
 void add_progress(ProduceOptions& opt, const std::string& name) {
   const bool tty = stderr_is_tty();
+  // Off a terminal every 10 s, or as often as YARNHOM_PROGRESS_SECONDS says (pipeline/
+  // stage_runner.cpp sets 1 when it relays a stage's log to a terminal).
+  const char* every_env = std::getenv("YARNHOM_PROGRESS_SECONDS");
+  const double every = tty ? 0.2 : every_env && std::atof(every_env) > 0 ? std::atof(every_env) : 10.0;
   auto last = std::make_shared<double>(-1), last_branch = std::make_shared<double>(-1);
+  // The round being reported, the elapsed time when it started, and that of the latest call.
+  auto round = std::make_shared<std::array<double, 3>>(std::array<double, 3>{0, 0, -1});
   opt.progress = [=](int done, int total, int failed, double el) {
-    if (el - *last < (tty ? 0.2 : 10.0) && done < total) return;
+    if (el - *last < every && done < total) return;
     *last = el;
     const double eta = done > 0 ? el / done * (total - done) : 0;
-    std::fprintf(stderr, "%sproduce %s: %d/%d nodes, %d failed, %s elapsed, ETA %s%s", tty ? "\r" : "", name.c_str(),
-                 done, total, failed, format_seconds(el).c_str(), format_seconds(eta).c_str(), tty ? "   " : "\n");
+    std::fprintf(stderr, "%sproduce %s: node pass ETA %s, %d/%d nodes, %d failed, %s elapsed; the branch pass follows%s",
+                 tty ? "\r" : "", name.c_str(), format_seconds(eta).c_str(), done, total, failed,
+                 format_seconds(el).c_str(), tty ? "   " : "\n");
     if (tty && done == total) std::fprintf(stderr, "\n");
   };
-  opt.branch_progress = [=](int round, int done, int total, int moved, double el) {
-    if (el - *last_branch < (tty ? 0.2 : 10.0) && done < total) return;
+  opt.branch_progress = [=](int r, int done, int total, int moved, double el) {
+    auto& [cur, start, prev] = *round;
+    if (r != int(cur)) cur = r, start = prev >= 0 ? prev : el;  // a round starts where the last call left
+    prev = el;
+    if (el - *last_branch < every && done < total) return;
     *last_branch = el;
-    std::fprintf(stderr, "%sproduce %s: branch round %d: %d/%d nodes tried, %d moved to a lower branch, %s elapsed%s",
-                 tty ? "\r" : "", name.c_str(), round, done, total, moved, format_seconds(el).c_str(), tty ? "   " : "\n");
+    const double in_round = el - start;
+    const double eta = done > 0 ? in_round / done * (total - done) : 0;
+    std::fprintf(stderr,
+                 "%sproduce %s: branch pass round %d ETA %s, %d/%d nodes tried, %d moved to a lower branch, %s elapsed "
+                 "(rounds go on while nodes move)%s",
+                 tty ? "\r" : "", name.c_str(), r, format_seconds(eta).c_str(), done, total, moved,
+                 format_seconds(el).c_str(), tty ? "   " : "\n");
     if (tty && done == total) std::fprintf(stderr, "\n");
   };
 }

@@ -159,12 +159,29 @@ double areal_density(const SimRunOptions& o, const Scene& s, const LoadedMateria
 FrameCallback progress_line(const SimRunOptions& o, const Scene& s, Clock::time_point start) {
   const bool tty = stderr_is_tty();
   auto last_line = std::make_shared<int>(-1);
+  auto checked = std::make_shared<size_t>(0);  // steps already looked at for the iteration cap
+  auto reported = std::make_shared<int>(0);
+  auto first = std::make_shared<double>(-1);   // elapsed at the end of the first frame
   const bool quiet = o.quiet;
-  const int frames = s.frames;
+  const int frames = s.frames, cap = s.newton.max_iterations;
+  const std::string name = s.name;
   return [=](int frame, const SimResult& r) {
     if (quiet) return;
+    // A step that ended unconverged (at the Newton iteration cap, or with no descent left) is
+    // reported at once, one line, as well as in the summary.
+    for (; *checked < r.steps.size(); ++*checked) {
+      const StepRecord& st = r.steps[*checked];
+      if (st.converged || ++*reported > 10) continue;
+      std::fprintf(stderr, "%ssim %s: step %d (frame %d) not converged to --tol after %d Newton iteration(s)%s; going on%s\n",
+                   tty && *last_line >= 0 ? "\n" : "", name.c_str(), st.step, st.frame, st.iterations,
+                   st.iterations >= cap ? " (the cap, --max-iterations)" : "",
+                   *reported == 10 ? " (further ones are counted in the summary only)" : "");
+    }
     const double el = std::chrono::duration<double>(Clock::now() - start).count();
-    const double eta = el / frame * (frames - frame);
+    // The ETA from the frames after the first (which carries the set-up: symbolic factorization,
+    // first contacts); after the first frame alone it is a rough guess.
+    if (*first < 0) *first = el;
+    const double eta = frame > 1 ? (el - *first) / (frame - 1) * (frames - frame) : el / frame * (frames - frame);
     double its = 0;
     for (const StepRecord& st : r.steps) its += st.iterations;
     const double per = r.steps.empty() ? 0 : 1e3 * el / r.steps.size();
