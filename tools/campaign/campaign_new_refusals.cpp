@@ -208,7 +208,9 @@ void part_e_refusals(const fs::path& work, const NewPartsOptions& opt, std::mt19
         acc + "--stretch 1.0:0.5:0.05", "accuracy " + missing + " --direction wale -o " + out,
         "study table5 " + pat + " -o " + out + " --size 0,0", "sim stretch --size 1e9,1e9 -o " + out + " --material " + B,
         "sim drape -o " + out + " --material " + B + " --dt nan", "export-hylc " + B + " --density nan -o " + p("m.json"),
-        "export-hylc " + B + " --margin nan -o " + p("m.json"), "export-hylc " + B + " --margin 1e-300 -o " + p("m.json")}) {
+        "export-hylc " + B + " --margin nan -o " + p("m.json"), "export-hylc " + B + " --margin 1e-300 -o " + p("m.json"),
+        // item 10: a small strip of a pattern whose rest yarn is straight ran 45 s to exit 2
+        "strip " + opt.strip_pattern + " --size 0.01,0.02 --stretch 1.0:1.05:0.05 -o " + out}) {
     const auto args = split_cmd(line);
     judge(args, run(args, 60), true, {}, t1);
   }
