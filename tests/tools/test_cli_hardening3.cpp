@@ -37,7 +37,7 @@ void expect_clean_refusal(const std::string& args, const std::vector<std::string
 
 std::string pattern_file() {
   const fs::path p = fs::path(YARNHOM_SOURCE_DIR) / ".." / "shared" / "patterns" / "stocktiny.pyp";
-  return fs::exists(p) ? p.string() : "stockinette";
+  return fs::exists(p) ? p.string() : "plain";  // the built-in plain weave: tiny, straight at rest
 }
 
 }  // namespace
@@ -190,7 +190,7 @@ TEST(Hardening3, StripsThatCannotHoldTogetherAreRefusedAtOnceWithTheReason) {
   yarnhom::test::TempDir d("h3_strip");
   const std::string tiny = pattern_file(), out = d / "s";
   for (const std::string& args : std::vector<std::string>{tiny + " --size 0.01,0.02 --stretch 1.0:1.05:0.05", tiny + " --size 0.0035,0.004 --clamp 0.0012",
-        "stockinette --size 0.004,0.008 --clamp 0.001"}) {
+        "plain --size 0.004,0.008 --clamp 0.001"}) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto r = run_cli_limited("strip " + args + " --no-plots -o " + out, 30);
     EXPECT_TRUE(refused(r.status)) << r.status << " " << args << "\n" << r.out;
