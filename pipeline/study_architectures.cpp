@@ -15,6 +15,7 @@
 #include "pipeline/child_process.hpp"
 #include "pipeline/python_env.hpp"
 #include "pipeline/study.hpp"
+#include "pipeline/study_util.hpp"
 #include "train/recipe.hpp"
 #include "train/trainer.hpp"
 
@@ -52,7 +53,8 @@ struct Row {
   std::string status;
 };
 
-Row train_architecture(const ArchitecturesOptions& o, const Dataset& ds, const Term& term, const Architecture& a) {
+Row train_architecture(const ArchitecturesOptions& o, const Dataset& ds, const Term& term, const Architecture& a,
+                       const std::string& progress) {
   TrainerOptions opt = recipe_options(o.recipe);
   if (o.epochs > 0) opt.config.epochs = o.epochs;
   opt.seed = o.seed;
@@ -60,7 +62,7 @@ Row train_architecture(const ArchitecturesOptions& o, const Dataset& ds, const T
   opt.hidden_2d.clear();  // the architecture under study, whatever the recipe gives 2D terms
   opt.config.threads = o.threads;
   auto backend = make_backend(o.backend);
-  std::fprintf(stderr, "  %s [%s] ...", a.name, join(a.hidden).c_str());
+  std::fprintf(stderr, "  %s [%s] (%s) ...", a.name, join(a.hidden).c_str(), progress.c_str());
   const double t0 = omp_get_wtime();
   TrainResult res = train_terms(ds, o.dataset, {term}, opt, *backend);
   Row r;
@@ -114,7 +116,21 @@ int run_study_architectures(const ArchitecturesOptions& o) {
   std::fprintf(stderr, "study architectures: term %s of %s, recipe %s, seed %llu, %d thread(s) per network\n",
                term.name.c_str(), o.dataset.c_str(), o.recipe.c_str(), static_cast<unsigned long long>(o.seed), o.threads);
   std::vector<Row> rows;
-  for (const Architecture& a : table3()) rows.push_back(train_architecture(o, ds, term, a));
+  // The ETA counts weights: a network's time grows with them.
+  auto weights = [&](const Architecture& a) {
+    NetworkDesc desc = recipe_options(o.recipe).net;
+    desc.hidden = a.hidden;
+    desc.input_dim = term.dim();
+    return double(desc.num_params());
+  };
+  double w_total = 0, w_done = 0;
+  for (const Architecture& a : table3()) w_total += weights(a);
+  const double t0 = omp_get_wtime();
+  for (const Architecture& a : table3()) {
+    rows.push_back(train_architecture(
+        o, ds, term, a, study_progress(int(rows.size()), int(table3().size()), omp_get_wtime() - t0, w_done, w_total)));
+    w_done += weights(a);
+  }
   const std::string csv = write_table(o, term, rows);
   if (o.no_plot) return 0;
   const std::string py = find_python();

@@ -1,6 +1,7 @@
 // yarnhom study strip-width: is the gap between a yarn strip and the continuum an edge effect?
 // (pipeline/study.hpp)
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -79,11 +80,19 @@ void run_study_strip_width(const StripWidthOptions& o) {
                    "mean relative stress error over the tests beyond 100 %.\n\n";
   std::string csv = "width_m,length_m,stretch,N_yarn,N_neural,dN\n";
   bool first = true;
+  const auto t0 = std::chrono::steady_clock::now();
+  double area_done = 0, area_total = 0;  // the strips' cost grows with their width
+  for (double w : widths) area_total += w;
+  int k = 0;
   for (double w : widths) {
     char sz[64], label[32];
     std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);
     std::snprintf(label, sizeof label, "w_%.4g", w);
-    std::printf("\n== width %s m\n", fmt(w, "%g").c_str());
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("\n== width %s m (%s)\n", fmt(w, "%g").c_str(),
+                study_progress(k++, int(widths.size()), el, area_done, area_total).c_str());
+    std::fflush(stdout);
+    area_done += w;
     // One dataset and one material for every width.
     AccuracyOptions a = row_test(o.acc, o.pattern, o.direction, dir.string(), (dir / label).string());
     a.size = sz;

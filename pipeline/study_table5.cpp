@@ -1,4 +1,5 @@
 // yarnhom study table5: supplement Table 5 (pipeline/study.hpp).
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -64,10 +65,16 @@ void run_study_table5(const Table5Options& o) {
       "| pattern | direction | model | dN (N/m) | H (cm) | rel. err. (%) | ratio of means (%) | paper dN | paper H | paper rel. (%) |\n"
       "|---|---|---|---|---|---|---|---|---|---|\n";
   std::string csv = "pattern,direction,model,tests,mean_dN,mean_H_cm,mean_rel_pct,rel_tests,ratio_of_means_pct,paper_dN,paper_H_cm,paper_rel_pct\n";
+  const auto t0 = std::chrono::steady_clock::now();
+  const int tests = int(o.patterns.size() * o.directions.size());
+  int k = 0;
   for (const std::string& p : o.patterns) {
     const std::string name = paper_name(p);
     for (const std::string& d : o.directions) {
-      std::printf("\n== %s, %s\n", name.c_str(), d.c_str());
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("\n== %s, %s (%s)\n", name.c_str(), d.c_str(), study_progress(k, tests, el, k, tests).c_str());
+      std::fflush(stdout);
+      ++k;
       const AccuracyOptions a =
           row_test(o.acc, p, d, (fs::path(o.out) / name).string(), (fs::path(o.out) / name / d).string());
       const AccuracyResult r = run_accuracy(a);

@@ -1,9 +1,11 @@
 #include "pipeline/study_util.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "core/console.hpp"
 #include "pipeline/child_process.hpp"
 #include "pipeline/python_env.hpp"
 #include "pipeline/stage_runner.hpp"
@@ -69,6 +71,14 @@ void fig5(const AccuracyResult& r, const AccuracyOptions& a, const std::string& 
     for (const std::string& a : argv) cmd += (cmd.empty() ? "" : " ") + shell_quote(a);
     std::printf("  (the Fig. 5 picture failed: %s)\n", cmd.c_str());
   }
+}
+
+std::string study_progress(int k, int n, double elapsed, double work_done, double work_total) {
+  std::string out = "part " + std::to_string(k + 1) + " of " + std::to_string(n);
+  if (k > 0 && work_done > 0)
+    out += ", elapsed " + format_seconds(elapsed) + ", ETA " +
+           format_seconds(elapsed / work_done * std::max(0.0, work_total - work_done)) + " at the pace so far";
+  return out;
 }
 
 }  // namespace yarnhom::pipeline

@@ -14,6 +14,11 @@ std::string paper_name(const std::string& pattern);
 // A table cell: "-" for NaN.
 std::string fmt(double x, const char* f = "%.2f");
 
+// A study's progress before its part k (0-based) of n, work_done and work_total in any unit
+// (tests, or weights): "part k+1 of n", then from the second part on the elapsed time and the
+// time left if the rest costs what the parts so far cost per unit of work.
+std::string study_progress(int k, int n, double elapsed, double work_done, double work_total);
+
 // scripts/plot/NAME (pipeline/python_env.hpp).
 std::string plot_script(const std::string& name);
 

@@ -147,6 +147,8 @@ def render(obj, info, out_png, title, box, dpi=110):
 
 def video(out, info, name, frames, box):
     """OUT/sim.mp4 of the frames (at most 150, evenly spaced) through ffmpeg."""
+    if os.environ.get("YARNHOM_NO_VIDEO", "") not in ("", "0"):
+        return  # asked for no video (timing runs, test suites)
     ffmpeg = shutil.which("ffmpeg")
     if not ffmpeg:
         print("sim: no ffmpeg found: no MP4 written (Debian: apt-get install ffmpeg)", file=sys.stderr)
@@ -159,7 +161,7 @@ def video(out, info, name, frames, box):
     try:
         for k, fr in enumerate(pick):
             render(os.path.join(out, "frames", "frame_%04d.obj" % fr), info, os.path.join(tmp, "%05d.png" % k),
-                   "%s, frame %d" % (name, fr), box, dpi=80)
+                   "%s, frame %d" % (name, fr), box, dpi=72)
         part = os.path.join(out, "sim.mp4.part")
         cmd = [ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps), "-i", os.path.join(tmp, "%05d.png"),
                "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-f", "mp4", part]
