@@ -1,6 +1,6 @@
 // Issue 37's outputs end to end: a simulation's frames carry texture coordinates in [0, 1] and
-// its rest shape in rest.obj, and a step that ends unconverged (here at a Newton iteration cap of
-// 1) is reported when it happens, one line, before the run's summary.
+// its rest shape in rest.obj, a step that ends unconverged (here at a Newton iteration cap of 1)
+// is reported when it happens, one line, before the run's summary, and a run's video is written.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -43,5 +43,19 @@ TEST(CliOutputs37, SimFramesHaveUnitTextureCoordinatesAndUnconvergedStepsAreRepo
   EXPECT_EQ(vt, 16);  // 4 x 4 vertices
   EXPECT_TRUE(uv_line);
   EXPECT_TRUE(fs::is_regular_file(fs::path(out) / "rest.obj"));
+
+  // The video of a run (CI sets YARNHOM_NO_VIDEO for every other test): written where ffmpeg
+  // and matplotlib are, one line saying why not otherwise.
+  const std::string out2 = (d / "video").string();
+  const auto v = yarnhom::test::run_shell("env -u YARNHOM_NO_VIDEO " + std::string(YARNHOM_BINARY) + " sim drape -o " + out2 +
+                                          " --material " + b + " --density 0.3 --resolution 3 --frames 2 --render 0 -q");
+  ASSERT_EQ(v.status, 0) << v.out;
+  const bool ffmpeg = yarnhom::test::run_shell("command -v ffmpeg").status == 0;
+  if (v.out.find("no python3 with matplotlib") == std::string::npos) {
+    if (ffmpeg)
+      EXPECT_TRUE(fs::is_regular_file(fs::path(out2) / "sim.mp4")) << v.out;
+    else
+      EXPECT_NE(v.out.find("no ffmpeg found: no MP4 written"), std::string::npos) << v.out;
+  }
   fs::remove_all(d);
 }
