@@ -212,7 +212,11 @@ def main():
     fdir = os.path.join(out, "frames")
     written = sorted(int(n[6:-4]) for n in (os.listdir(fdir) if os.path.isdir(fdir) else [])
                      if n.startswith("frame_") and n.endswith(".obj") and n[6:-4].isdigit())
-    box = scene_box(out, info, written) if written else None
+    # The box of at most 150 evenly spaced frames and the drawn ones (reading every frame of a
+    # long run would take longer than drawing).
+    sample = sorted(set(written[int(round(i))] for i in np.linspace(0, len(written) - 1, min(150, len(written))))
+                    | (set(frames) & set(written))) if written else []
+    box = scene_box(out, info, sample) if written else None
     if frames:
         os.makedirs(os.path.join(out, "renders"), exist_ok=True)
     for fr in frames:
