@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "core/console.hpp"
 #include "core/file_checks.hpp"
@@ -161,7 +162,7 @@ FrameCallback progress_line(const SimRunOptions& o, const Scene& s, Clock::time_
   auto last_line = std::make_shared<int>(-1);
   auto checked = std::make_shared<size_t>(0);  // steps already looked at for the iteration cap
   auto reported = std::make_shared<int>(0);
-  auto first = std::make_shared<double>(-1);   // elapsed at the end of the first frame
+  auto ends = std::make_shared<std::vector<double>>();  // elapsed at the end of each frame
   const bool quiet = o.quiet;
   const int frames = s.frames, cap = s.newton.max_iterations;
   const std::string name = s.name;
@@ -178,20 +179,22 @@ FrameCallback progress_line(const SimRunOptions& o, const Scene& s, Clock::time_
                    *reported == 10 ? " (further ones are counted in the summary only)" : "");
     }
     const double el = std::chrono::duration<double>(Clock::now() - start).count();
-    // The ETA from the frames after the first (which carries the set-up: symbolic factorization,
-    // first contacts; a drape's first frame made it 18 min for a run of 2 min 39 s): none yet
-    // after the first frame.
-    if (*first < 0) *first = el;
-    const double eta = frame > 1 ? (el - *first) / (frame - 1) * (frames - frame) : 0.0;
+    // The ETA at the pace of the last 5 frames, the first left out (it carries the set-up:
+    // symbolic factorization; a drape's first frame made the old whole-run mean say 18 min for a
+    // run of 2 min 39 s): a drape's frames get cheaper as the cloth comes to rest (23 Newton
+    // iterations in the first step, 3 at the end). None yet after the first frame.
+    ends->push_back(el);
+    const size_t n = ends->size(), back = std::min<size_t>(5, n - 1);
+    const double eta = back > 0 ? (el - (*ends)[n - 1 - back]) / double(back) * (frames - frame) : 0.0;
     double its = 0;
     for (const StepRecord& st : r.steps) its += st.iterations;
     const double per = r.steps.empty() ? 0 : 1e3 * el / r.steps.size();
     const int pct = 100 * frame / frames;
     if (!tty && pct / 10 == *last_line && frame != frames) return;
     *last_line = pct / 10;
-    std::fprintf(stderr, "%sframe %d/%d  %.1f Newton it/step  %.0f ms/step  elapsed %s  ETA %s%s", tty ? "\r" : "", frame,
+    std::fprintf(stderr, "%sframe %d/%d  %.1f Newton it/step  %.0f ms/step  elapsed %s  ETA %s at the current pace%s", tty ? "\r" : "", frame,
                  frames, r.steps.empty() ? 0.0 : its / r.steps.size(), per, format_seconds(el).c_str(),
-                 frame > 1 || frames == 1 ? format_seconds(eta).c_str() : "after the next frame", tty ? "   " : "\n");
+                 frame > 1 || frames == 1 ? format_seconds(eta).c_str() : "?", tty ? "   " : "\n");
   };
 }
 
