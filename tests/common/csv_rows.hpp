@@ -8,8 +8,9 @@
 
 namespace yarnhom::test {
 
-inline std::vector<std::vector<double>> read_csv_rows(const std::string& path, std::string* header = nullptr) {
-  std::ifstream in(path);
+// CSV text (a command's output) in the same form.
+inline std::vector<std::vector<double>> parse_csv_rows(const std::string& text, std::string* header = nullptr) {
+  std::istringstream in(text);
   std::string line;
   std::getline(in, line);
   if (header) *header = line;
@@ -22,6 +23,13 @@ inline std::vector<std::vector<double>> read_csv_rows(const std::string& path, s
     rows.push_back(r);
   }
   return rows;
+}
+
+inline std::vector<std::vector<double>> read_csv_rows(const std::string& path, std::string* header = nullptr) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_csv_rows(text.str(), header);
 }
 
 }  // namespace yarnhom::test

@@ -13,6 +13,7 @@
 
 #include "core/model.hpp"
 
+#include "tests/common/csv_rows.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -36,18 +37,7 @@ struct Dir {
 };
 
 std::vector<std::vector<double>> parse_csv(const std::string& text, std::string* header) {
-  std::istringstream in(text);
-  std::string line;
-  std::vector<std::vector<double>> rows;
-  std::getline(in, *header);
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) r.push_back(std::stod(cell));
-    rows.push_back(r);
-  }
-  return rows;
+  return yarnhom::test::parse_csv_rows(text, header);
 }
 
 }  // namespace
