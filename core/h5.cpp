@@ -54,7 +54,12 @@ Node open_file(const std::string& path) {
 
 Node create_file(const std::string& path) {
   silence_hdf5();
-  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  // No modification times in object headers (HDF5 records them by default): the same contents
+  // give the same bytes, so that runs can be compared with cmp (produce on any number of MPI
+  // ranks writes the one-process file byte for byte, docs/produce.md).
+  Scoped fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  H5Pset_obj_track_times(fcpl.get(), 0);
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl.get(), H5P_DEFAULT);
   if (f < 0) throw FileError(path, "", "cannot create file");
   return Node(own(f, H5Fclose), path, "/");
 }
@@ -102,7 +107,9 @@ Node Node::group(const std::string& name) const {
 Node Node::create_group(const std::string& name) const {
   Scoped lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
-  hid_t g = H5Gcreate2(id(), name.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT);
+  Scoped gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+  H5Pset_obj_track_times(gcpl.get(), 0);
+  hid_t g = H5Gcreate2(id(), name.c_str(), lcpl.get(), gcpl.get(), H5P_DEFAULT);
   if (g < 0) fail(child_path(name), "cannot create group");
   return Node(own(g, H5Gclose), file_, child_path(name));
 }
@@ -127,9 +134,9 @@ void Node::write_raw(const std::string& name, hid_t mem_type, hid_t file_type, c
   Scoped space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Scoped lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
   H5Pset_create_intermediate_group(lcpl.get(), 1);
-  Scoped ds(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), H5P_DEFAULT,
-                       H5P_DEFAULT),
-            H5Dclose);
+  Scoped dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(dcpl.get(), 0);
+  Scoped ds(H5Dcreate2(id(), name.c_str(), file_type, space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT), H5Dclose);
   if (!ds.ok()) fail(child_path(name), "cannot create dataset");
   if (count > 0 && H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     fail(child_path(name), "cannot write dataset");

@@ -33,15 +33,6 @@ std::pair<std::vector<GridEdge>, std::vector<double>> term_edges(const ProduceRu
 
 namespace {
 
-// A target node's result in one round.
-struct Move {
-  bool moved = false;
-  double psi = 0, seconds = 0, cpu_seconds = 0;
-  int iterations = 0;
-  Strain grad = Strain::Zero();
-  std::shared_ptr<const RveState> state;
-};
-
 class BranchPass {
  public:
   explicit BranchPass(ProduceRun& run) : run_(run), opt_(run.opt), nodes_(run.nodes) {}
@@ -57,7 +48,7 @@ class BranchPass {
       load_source_states(sources);
       std::vector<int> targets;
       for (const auto& [target, from] : sources) targets.push_back(target);
-      const std::vector<Move> moves = solve_round(round, sources, targets);
+      const std::vector<BranchMove> moves = solve_round(round, sources, targets);
       apply_round(sources, targets, moves);
       CheckpointRecord end;
       end.term = -1;
@@ -149,45 +140,26 @@ class BranchPass {
     }
   }
 
-  // One target: a solve from each source's equilibrium straight to its strain; the lowest
-  // energy below the target's own (by more than the term's gain) wins.
-  Move solve_target(int target, const std::vector<int>& from) const {
-    const ProduceNode& n = nodes_[target];
-    Move mv;
-    double best = n.psi - min_gain_.at(target);
-    // A neighbour's branch is one grid step away: a solve that needs more than a few dozen
-    // Newton iterations from there (the basket's hard corners crawl for hundreds) is not
-    // continuing that branch, and is given up (measured on the basket, quick preset: the
-    // late rounds' few nodes took 10 s each with the full budget and a 4-step retry).
-    SolveOptions pass_solve = opt_.solve;
-    pass_solve.max_iterations = std::min(pass_solve.max_iterations, 40);
-    for (int src : from) {
-      if (!run_.final_state[src]) continue;
-      // From the neighbour's equilibrium straight to this node's strain.
-      RveState y = *run_.final_state[src];
-      const DensityResult r = energy_density(run_.rve(), n.s, y, pass_solve);
-      mv.seconds += r.report.seconds;
-      mv.cpu_seconds += r.report.cpu_seconds;
-      mv.iterations += r.report.iterations;
-      if (r.report.converged() && y.certificate.valid && r.psi < best) {
-        best = r.psi;
-        mv.moved = true;
-        mv.psi = r.psi;
-        mv.grad = r.grad;
-        mv.state = std::make_shared<RveState>(std::move(y));
-      }
+  // Each target's threshold: its energy less the term's gain.
+  std::vector<BranchMove> solve_round(int round, const std::map<int, std::vector<int>>& sources,
+                                      const std::vector<int>& targets) {
+    std::vector<double> best(targets.size());
+    for (size_t k = 0; k < targets.size(); ++k) best[k] = nodes_[targets[k]].psi - min_gain_.at(targets[k]);
+    if (run_.branch_round) {  // on the MPI ranks (produce_cluster.cpp)
+      std::vector<std::vector<int>> from;
+      for (int t : targets) from.push_back(sources.at(t));
+      std::vector<BranchMove> moves = run_.branch_round(round, targets, best, from);
+      round_moved_ = int(std::count_if(moves.begin(), moves.end(), [](const BranchMove& m) { return m.moved; }));
+      return moves;
     }
-    return mv;
-  }
-
-  std::vector<Move> solve_round(int round, const std::map<int, std::vector<int>>& sources,
-                                const std::vector<int>& targets) {
-    std::vector<Move> moves(targets.size());
+    std::vector<BranchMove> moves(targets.size());
     int round_done = 0;
     round_moved_ = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(run_.threads)
     for (int k = 0; k < static_cast<int>(targets.size()); ++k) {
-      moves[k] = solve_target(targets[k], sources.at(targets[k]));
+      std::vector<std::shared_ptr<const RveState>> from;
+      for (int src : sources.at(targets[k])) from.push_back(run_.final_state[src]);
+      moves[k] = branch_solve(run_, nodes_[targets[k]].s, best[k], from);
       std::lock_guard<std::mutex> lock(run_.mu);
       ++round_done;
       if (moves[k].moved) ++round_moved_;
@@ -199,13 +171,13 @@ class BranchPass {
 
   // Applied together, in node order: the round's result does not depend on the threads.
   void apply_round(const std::map<int, std::vector<int>>& sources, const std::vector<int>& targets,
-                   const std::vector<Move>& moves) {
+                   const std::vector<BranchMove>& moves) {
     for (const auto& [target, from] : sources)
       for (int src : from) tried_.insert({target, src});
     moved_last_.clear();
     for (size_t k = 0; k < targets.size(); ++k) {
       ProduceNode& n = nodes_[targets[k]];
-      const Move& mv = moves[k];
+      const BranchMove& mv = moves[k];
       n.iterations += mv.iterations;
       n.seconds += mv.seconds;
       n.cpu_seconds += mv.cpu_seconds;
@@ -243,6 +215,34 @@ class BranchPass {
 };
 
 }  // namespace
+
+BranchMove branch_solve(const ProduceRun& run, const Strain& s, double best,
+                        const std::vector<std::shared_ptr<const RveState>>& sources) {
+  BranchMove mv;
+  // A neighbour's branch is one grid step away: a solve that needs more than a few dozen
+  // Newton iterations from there (the basket's hard corners crawl for hundreds) is not
+  // continuing that branch, and is given up (measured on the basket, quick preset: the
+  // late rounds' few nodes took 10 s each with the full budget and a 4-step retry).
+  SolveOptions pass_solve = run.opt.solve;
+  pass_solve.max_iterations = std::min(pass_solve.max_iterations, 40);
+  for (const auto& src : sources) {
+    if (!src) continue;
+    // From the neighbour's equilibrium straight to this node's strain.
+    RveState y = *src;
+    const DensityResult r = energy_density(run.rve(), s, y, pass_solve);
+    mv.seconds += r.report.seconds;
+    mv.cpu_seconds += r.report.cpu_seconds;
+    mv.iterations += r.report.iterations;
+    if (r.report.converged() && y.certificate.valid && r.psi < best) {
+      best = r.psi;
+      mv.moved = true;
+      mv.psi = r.psi;
+      mv.grad = r.grad;
+      mv.state = std::make_shared<RveState>(std::move(y));
+    }
+  }
+  return mv;
+}
 
 void branch_pass(ProduceRun& run) {
   if (run.opt.warm_start && run.opt.branch_rounds > 0) BranchPass(run).run();

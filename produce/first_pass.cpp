@@ -14,15 +14,6 @@ namespace yarnhom::yarn {
 
 namespace {
 
-// A (term, sector) task: an Algorithm 1 plan over its nodes.
-struct Task {
-  int term = 0;
-  std::vector<int> nodes;            // global node ids
-  std::vector<Eigen::VectorXd> x;    // their normalized coordinates
-  std::vector<Strain> directions;    // strain per unit normalized coordinate, per term axis
-  WarmStartPlan plan;
-};
-
 // Per strain axis: the normalization of term coordinates (the box's larger half-width) and
 // the strain per unit normalized coordinate.
 struct Axes {
@@ -40,15 +31,15 @@ Axes strain_axes(const ProduceRun& run) {
   return a;
 }
 
-std::vector<Task> make_tasks(const ProduceRun& run, const Axes& axes) {
+std::vector<SectorTask> make_tasks(const ProduceRun& run, const Axes& axes) {
   const ProduceOptions& opt = run.opt;
-  std::vector<Task> tasks;
+  std::vector<SectorTask> tasks;
   for (size_t ti = 0; ti < opt.terms.size(); ++ti) {
     const Term& t = opt.terms[ti];
     const int K = t.dim() == 1 ? 2 : std::max(1, opt.sectors);
     std::vector<Strain> directions;
     for (int i : t.indices) directions.push_back(axes.direction[i]);
-    std::vector<Task> by_sector(K);
+    std::vector<SectorTask> by_sector(K);
     for (int id : run.term_nodes_idx[ti]) {
       Eigen::VectorXd x = run.nodes[id].t;
       for (int d = 0; d < x.size(); ++d) x[d] /= axes.scale[t.indices[d]];
@@ -72,7 +63,7 @@ std::vector<Task> make_tasks(const ProduceRun& run, const Axes& axes) {
 // children start from.
 class TaskSolver {
  public:
-  TaskSolver(ProduceRun& run, const Task& task, const std::vector<Eigen::VectorXd>& rest_sensitivity, int& done,
+  TaskSolver(ProduceRun& run, const SectorTask& task, const std::vector<Eigen::VectorXd>& rest_sensitivity, int& done,
              int& failed, int total)
       : run_(run), opt_(run.opt), rve_(run.rve()), task_(task), rest_sensitivity_(rest_sensitivity), done_(done),
         failed_(failed), total_(total) {
@@ -94,6 +85,12 @@ class TaskSolver {
   // Resumed, with a child still to solve: that child starts from the very state this node
   // ended in, as it would have without the kill.
   void read_resumed(int li, ProduceNode& n) {
+    if (run_.node_sink) {  // an MPI worker: the state came with the task
+      CheckpointRecord& rec = run_.resumed_states.at(task_.nodes[li]);
+      states_[li] = std::move(rec.state);
+      if (!rec.sensitivity.empty()) sens_[li] = std::move(rec.sensitivity);
+      return;
+    }
     CheckpointRecord rec = run_.cc.records[n.record];
     try {
       read_checkpoint_state(opt_.checkpoint, run_.rest(), rec);
@@ -194,7 +191,8 @@ class TaskSolver {
     n.done = true;
     if (ok) {
       n.min_separation = st.certificate.min_distance;
-      if (opt_.warm_start && opt_.branch_rounds > 0) run_.final_state[task_.nodes[li]] = std::make_shared<RveState>(st);
+      if (opt_.warm_start && opt_.branch_rounds > 0 && !run_.node_sink)
+        run_.final_state[task_.nodes[li]] = std::make_shared<RveState>(st);
     }
     if (ok && opt_.warm_start) {
       states_[li] = std::move(st);
@@ -209,13 +207,17 @@ class TaskSolver {
     ++done_;
     if (!ok && refused) ++run_.rep.refused;
     if (!ok) ++failed_;
-    if (run_.ck) {
+    if (run_.ck || run_.node_sink) {
       CheckpointRecord rec = record_of(n, n.status);
       // Copied into the record only while it is written (one at a time, under the lock).
       if (ok && opt_.warm_start) {
         rec.has_state = true;
         rec.state = states_[li];
         if (sens_.count(li)) rec.sensitivity = sens_[li];
+      }
+      if (run_.node_sink) {
+        run_.node_sink(rec);
+        return;
       }
       run_.append(rec);
     }
@@ -225,7 +227,7 @@ class TaskSolver {
   ProduceRun& run_;
   const ProduceOptions& opt_;
   const RveProblem& rve_;
-  const Task& task_;
+  const SectorTask& task_;
   const std::vector<Eigen::VectorXd>& rest_sensitivity_;
   int &done_, &failed_;
   const int total_;
@@ -237,17 +239,16 @@ class TaskSolver {
 
 }  // namespace
 
-void first_pass(ProduceRun& run) {
-  const ProduceOptions& opt = run.opt;
-  // At rest, the equilibrium's sensitivity along each strain axis (one factorization for all
-  // terms: the predictor of every sector's first node).
-  const Axes axes = strain_axes(run);
-  std::vector<Eigen::VectorXd> rest_sensitivity;
-  if (opt.warm_start && opt.predictor)
-    rest_sensitivity = equilibrium_sensitivity(run.rve(), Strain::Zero(), run.rest(), axes.direction);
-  const std::vector<Task> tasks = make_tasks(run, axes);
-  // A resumed node's state is read back only if a child of it is still to be solved.
-  for (const Task& task : tasks)
+std::vector<SectorTask> sector_tasks(const ProduceRun& run) { return make_tasks(run, strain_axes(run)); }
+
+std::vector<Eigen::VectorXd> rest_sensitivity(const ProduceRun& run) {
+  // One factorization for all terms.
+  if (!(run.opt.warm_start && run.opt.predictor)) return {};
+  return equilibrium_sensitivity(run.rve(), Strain::Zero(), run.rest(), strain_axes(run).direction);
+}
+
+void mark_states_needed(ProduceRun& run, const std::vector<SectorTask>& tasks) {
+  for (const SectorTask& task : tasks)
     for (size_t li = 0; li < task.nodes.size(); ++li) {
       const int parent = task.plan.parent[li];
       if (parent >= 0 && !run.nodes[task.nodes[li]].done) {
@@ -255,6 +256,18 @@ void first_pass(ProduceRun& run) {
         pn.state_needed = pn.record >= 0 && run.cc.records[pn.record].has_state;
       }
     }
+}
+
+void solve_task(ProduceRun& run, const SectorTask& task, const std::vector<Eigen::VectorXd>& rest_sens, int& done,
+                int& failed, int total) {
+  TaskSolver(run, task, rest_sens, done, failed, total).run();
+}
+
+void first_pass(ProduceRun& run) {
+  const std::vector<Eigen::VectorXd> rest_sens = rest_sensitivity(run);
+  const std::vector<SectorTask> tasks = sector_tasks(run);
+  // A resumed node's state is read back only if a child of it is still to be solved.
+  mark_states_needed(run, tasks);
   int total = 0, done = 0, failed = 0;
   for (const auto& n : run.nodes) {
     ++total;
@@ -263,8 +276,7 @@ void first_pass(ProduceRun& run) {
   run.final_state.assign(run.nodes.size(), nullptr);
 
 #pragma omp parallel for schedule(dynamic, 1) num_threads(run.threads)
-  for (int ti = 0; ti < static_cast<int>(tasks.size()); ++ti)
-    TaskSolver(run, tasks[ti], rest_sensitivity, done, failed, total).run();
+  for (int ti = 0; ti < static_cast<int>(tasks.size()); ++ti) solve_task(run, tasks[ti], rest_sens, done, failed, total);
 }
 
 }  // namespace yarnhom::yarn

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/cluster.hpp"
 #include "produce/produce_pass.hpp"
 
 namespace yarnhom::yarn {
@@ -118,12 +119,23 @@ Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport
   run.r0 = evaluate_density(run.rve(), Strain::Zero(), run.rest());
   // The curvature of Psi at rest, which the grid does not resolve (yarn/rve/rest_hessian.hpp): 12
   // small solves from the rest state, measured again on a resumed run (it is cheap and
-  // deterministic).
-  rep.rest_hessian = rest_hessian(run.rve(), run.rest(), opt.solve);
+  // deterministic). On MPI ranks rank 0 measures it after the passes, when nothing waits on it.
+  const bool ranks = opt.ranks && cluster::size() > 1;
+  if (!ranks) rep.rest_hessian = rest_hessian(run.rve(), run.rest(), opt.solve);
   make_nodes(run);
+  if (ranks && cluster::rank() != 0) {
+    cluster_work(run);
+    if (report) *report = rep;
+    return Dataset{};
+  }
   if (!opt.checkpoint.empty()) resume_checkpoint(run, fingerprint(pattern, opt));
-  first_pass(run);
-  branch_pass(run);
+  if (ranks) {
+    cluster_coordinate(run);
+    rep.rest_hessian = rest_hessian(run.rve(), run.rest(), opt.solve);
+  } else {
+    first_pass(run);
+    branch_pass(run);
+  }
   if (run.ck) std::fclose(run.ck);
   rep.checkpoint_error = run.checkpoint_error;
   Dataset ds = assemble_dataset(run);

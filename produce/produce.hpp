@@ -23,6 +23,10 @@ struct ProduceOptions {
                                          // paper: 101 and 31 x 31
   std::vector<Term> terms = all_terms();
   int threads = 1;                       // sectors solved in parallel
+  // Run on the MPI ranks of an `mpirun` (core/cluster.hpp, produce_cluster.cpp): rank 0 hands
+  // out the work, keeps the checkpoint and returns the dataset; every other rank solves what it
+  // is sent and returns an empty dataset. The dataset is the same bits as one process's.
+  bool ranks = false;
   int sectors = 8;                       // per 2D term (1D terms: 2, one per side)
   bool warm_start = true;                // false: every node from the rest state
   bool predictor = true;                 // warm starts add the first-order continuation step

@@ -247,6 +247,11 @@ std::string header(const std::string& fingerprint, const std::string& rest_sig) 
 
 }  // namespace
 
+std::string encode_record(const CheckpointRecord& r, const RveState& rest) { return encode(r, rest); }
+CheckpointRecord decode_record(const std::string& bytes, const RveState& rest) {
+  return decode(bytes.data(), bytes.size(), rest);
+}
+
 std::string rest_signature(double psi0, const RveState& rest) {
   uint64_t h = fnv1a(nullptr, 0);
   auto add = [&](const std::vector<double>& v) { h = fnv1a(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double), h); };

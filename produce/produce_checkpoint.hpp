@@ -38,6 +38,12 @@ struct CheckpointRecord {
   std::uintmax_t offset = 0;                  // where the record starts in the file (when read)
 };
 
+// A record as bytes (the checkpoint's record payload, without its frame and checksum), and
+// back: also what produce's MPI ranks send each other (produce/produce_cluster.cpp). decode
+// throws std::runtime_error for bytes that are not one whole record.
+std::string encode_record(const CheckpointRecord& r, const RveState& rest);
+CheckpointRecord decode_record(const std::string& bytes, const RveState& rest);
+
 // Identity of the rest state a run starts from: its Psi0 bits and a hash of its unknowns and
 // frames. A checkpoint whose rest differs (another build, another thread count in the rest
 // relaxation) cannot be continued bit for bit.

@@ -3,9 +3,12 @@
 // their order: the rest tile and the rest Hessian (produce.cpp), the nodes and the checkpoint
 // resumed from (produce_resume.cpp), the first pass of warm-started solves (first_pass.cpp),
 // the branch pass (branch_pass.cpp), and the dataset written from the nodes
-// (produce_dataset.cpp).
+// (produce_dataset.cpp); on MPI ranks, the two passes' work spread by rank 0
+// (produce_cluster.cpp).
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -48,6 +51,16 @@ struct ProduceNode {
 inline constexpr char kLowerBranch[] = "lower-branch";
 inline constexpr char kBranchRound[] = "branch-round";
 
+// A branch-pass target's result in one round (branch_pass.cpp): whether a source's branch gave
+// it a lower energy, and that equilibrium.
+struct BranchMove {
+  bool moved = false;
+  double psi = 0, seconds = 0, cpu_seconds = 0;
+  int iterations = 0;
+  Strain grad = Strain::Zero();
+  std::shared_ptr<const RveState> state;
+};
+
 // A node's checkpoint record, without its state.
 CheckpointRecord record_of(const ProduceNode& n, const std::string& status);
 
@@ -70,6 +83,17 @@ struct ProduceRun {
   // from the checkpoint when the pass needs it).
   std::vector<std::shared_ptr<const RveState>> final_state;
   ProduceReport rep;
+  // On an MPI worker rank (produce_cluster.cpp): each finished node goes to node_sink (the
+  // coordinator, rank 0) instead of the checkpoint and the progress line, and the states of
+  // resumed nodes come from resumed_states (node id -> record, sent with the task) instead of
+  // the checkpoint file, which only rank 0 reads and writes.
+  std::function<void(const CheckpointRecord&)> node_sink;
+  std::map<int, CheckpointRecord> resumed_states;
+  // On rank 0 of an MPI run: a branch round's targets solved on the other ranks, each from its
+  // sources' equilibria, accepted below best[k] (null: on this process's threads).
+  std::function<std::vector<BranchMove>(int round, const std::vector<int>& targets, const std::vector<double>& best,
+                                        const std::vector<std::vector<int>>& from)>
+      branch_round;
   std::mutex mu;
   std::chrono::steady_clock::time_point t0;
   double elapsed() const;
@@ -84,10 +108,39 @@ void make_nodes(ProduceRun& run);
 // in (produce/produce_checkpoint.hpp), so that the run goes on exactly as if never stopped;
 // then the checkpoint is opened for appending.
 void resume_checkpoint(ProduceRun& run, const std::string& fingerprint);
-// Every node not resumed, sector by sector with warm starts (supplement Algorithm 1).
+// The first pass's unit of work (first_pass.cpp): one sector of one term, an Algorithm 1 plan
+// over its nodes, each warm started from its parent's equilibrium. Tasks are independent (each
+// starts from the rest state), so they may run in any order, on any thread or rank.
+struct SectorTask {
+  int term = 0;
+  std::vector<int> nodes;            // global node ids
+  std::vector<Eigen::VectorXd> x;    // their normalized coordinates
+  std::vector<Strain> directions;    // strain per unit normalized coordinate, per term axis
+  WarmStartPlan plan;
+};
+// Every rank builds the same list from the same nodes.
+std::vector<SectorTask> sector_tasks(const ProduceRun& run);
+// At rest, the equilibrium's sensitivity along each strain axis: the predictor of every
+// sector's first node (empty without warm starts or the predictor).
+std::vector<Eigen::VectorXd> rest_sensitivity(const ProduceRun& run);
+// Marks the resumed nodes whose state a child still to be solved starts from.
+void mark_states_needed(ProduceRun& run, const std::vector<SectorTask>& tasks);
+// A task's nodes not yet done, in plan order; done and failed are counted under run.mu.
+void solve_task(ProduceRun& run, const SectorTask& task, const std::vector<Eigen::VectorXd>& rest_sens, int& done,
+                int& failed, int total);
+// Every node not resumed, sector by sector with warm starts (supplement Algorithm 1), on this
+// process's threads.
 void first_pass(ProduceRun& run);
 // The branch pass (ProduceOptions::branch_rounds, produce/branch_check.hpp).
 void branch_pass(ProduceRun& run);
+// One branch-pass target at strain s: a solve from each source's equilibrium straight to s; the
+// lowest energy below `best` wins.
+BranchMove branch_solve(const ProduceRun& run, const Strain& s, double best,
+                        const std::vector<std::shared_ptr<const RveState>>& sources);
+// On MPI ranks (produce_cluster.cpp, ProduceOptions::ranks): rank 0 runs both passes on the
+// other ranks, which solve what they are sent until told to stop.
+void cluster_coordinate(ProduceRun& run);
+void cluster_work(ProduceRun& run);
 // A term's grid edges and its typical edge changes, from the nodes as first solved or as now.
 std::pair<std::vector<GridEdge>, std::vector<double>> term_edges(const ProduceRun& run, size_t ti, bool first);
 // The dataset (spec section 3 targets) and the terms' summaries in run.rep.

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "core/cluster.hpp"
 #include "core/console.hpp"
 #include "core/dataset.hpp"
 #include "core/error.hpp"
@@ -70,7 +71,11 @@ ProduceOptions produce_options(const ProduceRunOptions& o) {
   opt.preset = o.preset;
   points_per_axis(opt.preset, 1);  // refuse an unknown preset before any work
   opt.terms = parse_term_list(o.terms);
-  opt.threads = o.threads > 0 ? o.threads : omp_get_num_procs();
+  // On MPI ranks the ranks are the parallelism: one thread each unless --threads says more
+  // (every evaluation's sums are added in a fixed order, so the bits do not depend on it).
+  opt.ranks = cluster::size() > 1;
+  opt.threads = o.threads > 0 ? o.threads : opt.ranks ? 1 : omp_get_num_procs();
+  if (opt.ranks) omp_set_num_threads(opt.threads);
   opt.sectors = o.sectors;
   opt.branch_rounds = o.branch_rounds;
   opt.branch_tolerance = o.branch_tolerance;
@@ -180,20 +185,33 @@ void print_terms(const ProduceOptions& opt, const ProduceReport& rep, const Patt
 }  // namespace
 
 int run_produce(const ProduceRunOptions& o) {
-  // Before any work: the dataset and the checkpoint beside it must be writable and must not
-  // be an input (the pattern, the material or the ranges file).
+  // Under mpirun only rank 0 writes (the dataset, the checkpoint) and prints; the other ranks
+  // solve what it sends them (docs/produce.md, "On a cluster").
+  const bool root = cluster::rank() == 0;
   const std::vector<std::string> inputs = {o.pattern, o.material, o.ranges};
-  prepare_output(o.out, inputs);
-  check_output_file(o.out + ".partial", inputs, "-o (its checkpoint)");
+  if (root) {
+    // Before any work: the dataset and the checkpoint beside it must be writable and must not
+    // be an input (the pattern, the material or the ranges file).
+    prepare_output(o.out, inputs);
+    check_output_file(o.out + ".partial", inputs, "-o (its checkpoint)");
+  }
   const Pattern p = load_pattern(o.pattern);
   ProduceOptions opt = produce_options(o);
+  if (!root) {
+    produce(p, opt);
+    return 0;
+  }
   add_progress(opt, p.name);
-  std::printf("produce %s -> %s (preset %s, %zu terms, %d threads, %s%s)\n", p.name.c_str(), o.out.c_str(),
-              o.preset.c_str(), opt.terms.size(), opt.threads,
-              opt.warm_start ? (opt.predictor ? "warm start with predictor" : "warm start, no predictor") : "no warm start",
-              opt.tiles_x * opt.tiles_y > 1
-                  ? (", RVE " + std::to_string(opt.tiles_x) + " x " + std::to_string(opt.tiles_y) + " tiles").c_str()
-                  : "");
+  const std::string start = !opt.warm_start ? "no warm start" : opt.predictor ? "warm start with predictor" : "warm start, no predictor";
+  const std::string where = opt.ranks ? std::to_string(cluster::size()) + " MPI ranks (rank 0 coordinates, " +
+                                            std::to_string(cluster::size() - 1) + " solve, " + std::to_string(opt.threads) +
+                                            " thread(s) each)"
+                                      : std::to_string(opt.threads) + " threads";
+  const std::string rve = opt.tiles_x * opt.tiles_y > 1
+                              ? ", RVE " + std::to_string(opt.tiles_x) + " x " + std::to_string(opt.tiles_y) + " tiles"
+                              : "";
+  std::printf("produce %s -> %s (preset %s, %zu terms, %s, %s%s)\n", p.name.c_str(), o.out.c_str(), o.preset.c_str(),
+              opt.terms.size(), where.c_str(), start.c_str(), rve.c_str());
   ProduceReport rep;
   const Dataset ds = produce(p, opt, &rep);
   write_dataset(o.out, ds);

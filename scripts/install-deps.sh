@@ -18,6 +18,9 @@ pkgs+=(pybind11-dev python3-dev)
 # ffmpeg: sim's video of every run (OUT/sim.mp4; without it sim says so in one line and writes
 # the rest). About 27 MB to download, 68 MB installed on Debian 12; YARNHOM_NO_FFMPEG=1 leaves it out.
 [ "${YARNHOM_NO_FFMPEG:-0}" = 1 ] || pkgs+=(ffmpeg)
+# Open MPI: `mpirun -np N yarnhom produce` on several processes or machines (docs/produce.md,
+# "On a cluster"); the build finds it (YARNHOM_MPI=AUTO). YARNHOM_NO_MPI=1 leaves it out.
+[ "${YARNHOM_NO_MPI:-0}" = 1 ] || pkgs+=(libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -12,6 +12,7 @@
 
 #include "core/dataset.hpp"
 #include "core/error.hpp"
+#include "tests/common/dataset_compare.hpp"
 #include "tests/common/yarn_support.hpp"
 #include "yarn/rod/generate.hpp"
 #include "produce/produce.hpp"
@@ -226,24 +227,8 @@ std::vector<size_t> record_ends(const std::string& f) {
   }
   return ends;
 }
-bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
-void expect_identical(const Dataset& a, const Dataset& b, const std::string& where) {
-  EXPECT_EQ(std::memcmp(&a.psi0, &b.psi0, sizeof(double)), 0) << where;
-  EXPECT_TRUE(same_bits(a.rest_q, b.rest_q)) << where;
-  EXPECT_TRUE(same_bits(a.grad0, b.grad0)) << where;
-  EXPECT_TRUE(same_bits(a.lattice_relaxed, b.lattice_relaxed)) << where;
-  ASSERT_EQ(a.terms.size(), b.terms.size()) << where;
-  for (size_t t = 0; t < a.terms.size(); ++t) {
-    const TermData &x = a.terms[t], &y = b.terms[t];
-    ASSERT_EQ(x.n, y.n) << where << " term " << x.term.name;
-    EXPECT_TRUE(same_bits(x.strain, y.strain)) << where << " term " << x.term.name;
-    EXPECT_TRUE(same_bits(x.raw, y.raw)) << where << " term " << x.term.name;
-    EXPECT_TRUE(same_bits(x.energy, y.energy)) << where << " term " << x.term.name;
-    EXPECT_TRUE(same_bits(x.gradient, y.gradient)) << where << " term " << x.term.name;
-  }
-}
+using yarnhom::test::expect_identical;
+using yarnhom::test::same_bits;
 }  // namespace
 
 // Issue 11 item 1: a run killed anywhere resumes to the uninterrupted run's dataset, bit for

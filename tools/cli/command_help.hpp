@@ -80,7 +80,10 @@ inline constexpr CommandHelp kCommandHelp[] = {
    "Produce the training dataset of a yarn pattern: Psi(s) and dPsi/ds of the periodic yarn RVE "
    "on every term's node grid (spec sections 3-5), solved sector by sector with warm starts "
    "(supplement Algorithm 1). Finished samples go to OUT.partial as they complete, with their "
-   "equilibrium states: the same command resumes a killed run to the uninterrupted run's dataset, bit for bit. Exit status 3 when some nodes did not converge (listed)."},
+   "equilibrium states: the same command resumes a killed run to the uninterrupted run's dataset, bit for bit. Exit status 3 when some nodes did not converge (listed). "
+   "On several processes or machines: mpirun -np N yarnhom produce ... (a build with MPI): rank 0 hands out the work and "
+   "writes the one dataset, the same bytes as one process's; a run whose rank died resumes with any N "
+   "(docs/produce.md, 'On a cluster')."},
   {"sim",
    "Simulate cloth with a baked material (thin shell, spec section 10; docs/sim.md). SCENE is a built-in "
    "scene -- drape (a 0.5 m sheet falling onto a sphere), hang (a sheet held by two corners), stretch (a strip "

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <unistd.h>
 
+#include "core/cluster.hpp"
 #include "numerics/blas_threads.hpp"
 #include "tools/cli/commands.hpp"
 
@@ -16,6 +17,18 @@ int main(int argc, char** argv) {
   if (const char* kernels = yarnhom::numerics::blas_kernels_to_request()) {
     setenv("OPENBLAS_CORETYPE", kernels, 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on with the kernels we have
+  }
+  // Under mpirun (docs/produce.md, "On a cluster"): only produce runs on several ranks; any other
+  // command would run once per rank and write the same files.
+  yarnhom::cluster::init(&argc, &argv);
+  if (yarnhom::cluster::size() > 1) {
+    const std::string command = argc > 1 ? argv[1] : "";
+    if (command != "produce") {
+      if (yarnhom::cluster::rank() == 0)
+        std::fprintf(stderr, "yarnhom: error: '%s' was started by mpirun on %d ranks; only 'produce' runs on several "
+                     "ranks (run the others without mpirun)\n", command.c_str(), yarnhom::cluster::size());
+      return 2;
+    }
   }
   CLI::App app{
       "yarnhom: turns yarn-level cloth into fast, stable continuum material models with neural "
@@ -32,6 +45,8 @@ int main(int argc, char** argv) {
   } catch (const yarnhom::tools::ExitCode& e) {
     return e.code;
   } catch (const std::exception& e) {
+    // On several ranks the others would wait for this one forever: end them all.
+    if (yarnhom::cluster::size() > 1) yarnhom::cluster::abort(e.what());
     std::fprintf(stderr, "yarnhom: error: %s\n", e.what());
     return 1;
   }

@@ -319,11 +319,15 @@ void RveProblem::prepare(const Strain& s, const RveState& st, Assembly& A) const
   }
 }
 
+namespace {
+// The first item of chunk c of `chunks` equal ranges over n items.
+int chunk_begin(int n, int c, int chunks) { return static_cast<int>(static_cast<long long>(n) * c / chunks); }
+}  // namespace
+
 // Stretch, per edge (the vertex's outgoing edge).
-void RveProblem::stretch_sums(const Assembly& A, Sums& L) const {
+void RveProblem::stretch_sums(const Assembly& A, Sums& L, int chunk, int chunks) const {
   const int n = p_.size();
-#pragma omp for schedule(static) nowait
-  for (int v = 0; v < n; ++v) {
+  for (int v = chunk_begin(n, chunk, chunks); v < chunk_begin(n, chunk + 1, chunks); ++v) {
     const int w = topo_.next[v];
     const Node& nw = A.nxt[v];
     Vec6 g;
@@ -339,11 +343,10 @@ void RveProblem::stretch_sums(const Assembly& A, Sums& L) const {
 }
 
 // Bend and twist, per joint.
-void RveProblem::joint_sums(const Assembly& A, Sums& L) const {
+void RveProblem::joint_sums(const Assembly& A, Sums& L, int chunk, int chunks) const {
   const int n = p_.size();
   const RveState& st = *A.st;
-#pragma omp for schedule(static) nowait
-  for (int v = 0; v < n; ++v) {
+  for (int v = chunk_begin(n, chunk, chunks); v < chunk_begin(n, chunk + 1, chunks); ++v) {
     const int a = topo_.prev[v], b = topo_.next[v];
     const Node& na = A.prv[v];
     const Node& nb = A.nxt[v];
@@ -385,9 +388,9 @@ void RveProblem::joint_sums(const Assembly& A, Sums& L) const {
 
 // Contact: the kernel and the barrier on the pair's exact closest distance (zero beyond
 // d_hat < 2r: most pairs stop at its distance test).
-void RveProblem::contact_sums(const Assembly& A, Sums& L) const {
-#pragma omp for schedule(static) nowait
-  for (int i = 0; i < static_cast<int>(A.pairs.size()); ++i) {
+void RveProblem::contact_sums(const Assembly& A, Sums& L, int chunk, int chunks) const {
+  const int np = static_cast<int>(A.pairs.size());
+  for (int i = chunk_begin(np, chunk, chunks); i < chunk_begin(np, chunk + 1, chunks); ++i) {
     const Pair& pr = A.pairs[i];
     const int a1 = topo_.next[pr.a], b1 = topo_.next[pr.b];
     const Node& na1 = A.nxt[pr.a];
@@ -427,24 +430,27 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
   A.hessian = hess != nullptr;
   A.parts = parts != nullptr;
   A.ds = dEds != nullptr;
-  // Contact pairs and the images they use, found serially; then the three sums in parallel
-  // for large patterns (never inside the producer's own parallel sectors). Each thread keeps
-  // its own sums, reduced in thread order afterwards: with a static schedule the result is the
-  // same bit for bit from run to run at a given thread count.
+  // Contact pairs and the images they use, found serially; then the three sums in a fixed
+  // number of chunks (8 for large patterns, one for small ones), each chunk a fixed range of
+  // edges, joints and pairs with its own sums, added in chunk order afterwards. The chunks, not
+  // the threads, decide the order of the additions, so the result is the same bit for bit at
+  // any thread count: a produce run on MPI ranks of one thread each writes the dataset of a
+  // many-thread run (docs/produce.md). The chunks run in parallel only outside the producer's
+  // own parallel sectors.
   prepare(s, st, A);
-  const bool par = n >= 150 && !omp_in_parallel() && omp_get_max_threads() > 1;
-  const int nthreads = par ? omp_get_max_threads() : 1;
-  std::vector<Sums> local(nthreads);
-#pragma omp parallel num_threads(nthreads) if (par)
-  {
-    Sums& L = local[par ? omp_get_thread_num() : 0];
+  const int chunks = n >= 150 ? 8 : 1;
+  const bool par = chunks > 1 && !omp_in_parallel() && omp_get_max_threads() > 1;
+  std::vector<Sums> local(chunks);
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(chunks, omp_get_max_threads())) if (par)
+  for (int c = 0; c < chunks; ++c) {
+    Sums& L = local[c];
     if (grad) L.g.setZero(ndof_ + 1);
     L.G = grad ? &L.g : nullptr;
     L.T = hess ? &L.trip : nullptr;
     L.D = dEds ? &L.d : nullptr;
-    stretch_sums(A, L);
-    joint_sums(A, L);
-    contact_sums(A, L);
+    stretch_sums(A, L, c, chunks);
+    joint_sums(A, L, c, chunks);
+    contact_sums(A, L, c, chunks);
   }
   EnergyParts e;
   for (const Sums& L : local) {

@@ -179,9 +179,9 @@ class RveProblem {
   struct Assembly;
   struct Sums;
   void prepare(const Strain& s, const RveState& st, Assembly& A) const;
-  void stretch_sums(const Assembly& A, Sums& L) const;
-  void joint_sums(const Assembly& A, Sums& L) const;
-  void contact_sums(const Assembly& A, Sums& L) const;
+  void stretch_sums(const Assembly& A, Sums& L, int chunk, int chunks) const;
+  void joint_sums(const Assembly& A, Sums& L, int chunk, int chunks) const;
+  void contact_sums(const Assembly& A, Sums& L, int chunk, int chunks) const;
 
   Pattern p_;
   Material m_;

@@ -1,0 +1,122 @@
+// Issue 34: `mpirun -np N yarnhom produce` writes the one-process dataset bit for bit, and a run
+// whose rank dies resumes with another number of ranks to the same dataset (docs/produce.md,
+// "On a cluster"). Needs a build with MPI, mpirun, and the paper's tiny stockinette from
+// ../shared/patterns; skips with a line saying which is missing.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "core/dataset.hpp"
+#include "tests/common/dataset_compare.hpp"
+#include "tests/common/process_tree.hpp"
+#include "tests/common/run_cli.hpp"
+
+namespace fs = std::filesystem;
+using yarnhom::test::run_shell;
+
+namespace {
+
+std::string stocktiny() { return std::string(YARNHOM_SOURCE_DIR) + "/../shared/patterns/stocktiny.pyp"; }
+
+std::string tmpdir(const char* name) {
+  fs::path d = fs::temp_directory_path() / ("yarnhom_mpi_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d.string();
+}
+
+// mpirun as any user (CI runs as root), without the single-copy mechanism that containers'
+// ptrace rules forbid, and with more ranks than cores.
+std::string mpirun(int ranks) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "mpirun --oversubscribe -np " + std::to_string(ranks) + " " + YARNHOM_BINARY;
+}
+
+// A term of each kind, quick preset: 21 + 81 nodes, both passes.
+std::string produce_args(const std::string& out) {
+  return " produce " + stocktiny() + " --preset quick --terms 3,01 -o " + out;
+}
+
+std::string slurp(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+size_t records_in(const std::string& checkpoint) {
+  const std::string f = slurp(checkpoint);
+  size_t n = 0;
+  for (size_t at = f.find("YREC"); at != std::string::npos; at = f.find("YREC", at + 4)) ++n;
+  return n;
+}
+
+// The MPI rank of a process (Open MPI puts it in the environment), -1 if none.
+int rank_of(pid_t pid) {
+  const std::string env = slurp("/proc/" + std::to_string(pid) + "/environ");
+  const std::string key = std::string("OMPI_COMM_WORLD_RANK=");
+  for (size_t at = 0; at < env.size(); at = env.find('\0', at) + 1) {
+    if (env.compare(at, key.size(), key) == 0) return std::atoi(env.c_str() + at + key.size());
+    if (env.find('\0', at) == std::string::npos) break;
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST(ProduceMpi, RanksWriteTheOneProcessDatasetAndARunWhoseRankDiedResumesWithOtherRanks) {
+#if !YARNHOM_MPI_BUILD
+  GTEST_SKIP() << "this yarnhom was built without MPI (libopenmpi-dev absent at configure time): the MPI tests skip";
+#endif
+  if (run_shell("command -v mpirun").status != 0) GTEST_SKIP() << "mpirun not found: the MPI tests skip";
+  if (!fs::exists(stocktiny())) GTEST_SKIP() << "shared pattern not found: " << stocktiny();
+  const std::string d = tmpdir("ranks");
+
+  auto one = yarnhom::test::run_cli(produce_args(d + "/one.h5") + " --threads 2");
+  ASSERT_EQ(one.status, 0) << one.out;
+  const yarnhom::Dataset ref = yarnhom::read_dataset(d + "/one.h5");
+
+  // Three ranks: rank 0 coordinates, two solve.
+  auto three = run_shell(mpirun(3) + produce_args(d + "/three.h5"));
+  ASSERT_EQ(three.status, 0) << three.out;
+  EXPECT_NE(three.out.find("3 MPI ranks"), std::string::npos) << three.out;
+  yarnhom::test::expect_identical(ref, yarnhom::read_dataset(d + "/three.h5"), "3 ranks");
+  // The files themselves, byte for byte (no modification times in them: core/h5.cpp).
+  EXPECT_TRUE(slurp(d + "/one.h5") == slurp(d + "/three.h5")) << "the files differ";
+
+  // A rank killed mid-run: mpirun ends the run and names the rank; rank 0's checkpoint holds
+  // what was finished, and two ranks take it up to the same dataset.
+  const std::string log = d + "/killed.log", ck = d + "/killed.h5.partial";
+  auto bg = run_shell("(" + mpirun(3) + produce_args(d + "/killed.h5") + " > " + log + " 2>&1 & echo $!)");
+  const pid_t launcher = std::stoi(bg.out);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (records_in(ck) < 12 && yarnhom::test::alive(launcher) &&
+         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_GE(records_in(ck), 12u) << slurp(log);
+  pid_t victim = -1;
+  for (pid_t p : yarnhom::test::descendants(launcher))
+    if (rank_of(p) == 2) victim = p;
+  ASSERT_GT(victim, 0) << "no rank 2 among mpirun's processes";
+  ASSERT_EQ(::kill(victim, SIGKILL), 0);
+  while (yarnhom::test::alive(launcher) && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(180))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_FALSE(yarnhom::test::alive(launcher)) << "mpirun did not end after its rank 2 was killed";
+  const std::string killed_log = slurp(log);
+  EXPECT_NE(killed_log.find("rank 2"), std::string::npos) << killed_log;
+  EXPECT_FALSE(fs::exists(d + "/killed.h5")) << killed_log;
+
+  auto resumed = run_shell(mpirun(2) + produce_args(d + "/killed.h5"));
+  ASSERT_EQ(resumed.status, 0) << resumed.out;
+  EXPECT_NE(resumed.out.find("resumed"), std::string::npos) << resumed.out;
+  yarnhom::test::expect_identical(ref, yarnhom::read_dataset(d + "/killed.h5"), "killed at 3 ranks, resumed with 2");
+  EXPECT_TRUE(slurp(d + "/one.h5") == slurp(d + "/killed.h5")) << "the files differ";
+  fs::remove_all(d);
+}
