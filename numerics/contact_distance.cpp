@@ -229,7 +229,6 @@ Eigen::Vector4d contact_weights(ContactKind kind, const Vec12& q) {
 }
 
 namespace {
-double orient3d(const V& a, const V& b, const V& c, const V& d) { return (b - a).cross(c - a).dot(d - a); }
 
 // 2D: does segment a0-a1 meet triangle t (closed)? Coordinates already projected.
 double orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
@@ -255,22 +254,30 @@ bool point_in_triangle_2d(const Eigen::Vector2d& p, const Eigen::Vector2d& a, co
 }  // namespace
 
 bool segment_triangle_intersect(const V& a0, const V& a1, const V& t0, const V& t1, const V& t2) {
-  const double s0 = orient3d(t0, t1, t2, a0), s1 = orient3d(t0, t1, t2, a1);
-  if ((s0 > 0 && s1 > 0) || (s0 < 0 && s1 < 0)) return false;
-  if (s0 == 0 && s1 == 0) {
+  // Signed distances of the ends from the triangle's plane; within 1e-12 of the sizes involved
+  // they count as on it (rounding decides nothing there: a nearly coplanar pair is tested in 2D).
+  const V N = (t1 - t0).cross(t2 - t0);
+  const double nn = N.norm();
+  if (!(nn > 0)) return false;  // a degenerate triangle has no interior to cross
+  const double L = std::max({(t1 - t0).norm(), (t2 - t1).norm(), (t0 - t2).norm(), (a1 - a0).norm()});
+  const double tol = 1e-12 * L;
+  const double d0 = N.dot(a0 - t0) / nn, d1 = N.dot(a1 - t0) / nn;
+  if ((d0 > tol && d1 > tol) || (d0 < -tol && d1 < -tol)) return false;
+  Eigen::Index k;
+  N.cwiseAbs().maxCoeff(&k);
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  auto P = [&](const V& v) { return Eigen::Vector2d(v[i], v[j]); };
+  const bool on0 = std::abs(d0) <= tol, on1 = std::abs(d1) <= tol;
+  if (on0 && on1) {
     // Coplanar: drop the normal's largest coordinate and test in 2D.
-    Eigen::Index k;
-    (t1 - t0).cross(t2 - t0).cwiseAbs().maxCoeff(&k);
-    const int i = (k + 1) % 3, j = (k + 2) % 3;
-    auto P = [&](const V& v) { return Eigen::Vector2d(v[i], v[j]); };
     if (point_in_triangle_2d(P(a0), P(t0), P(t1), P(t2)) || point_in_triangle_2d(P(a1), P(t0), P(t1), P(t2)))
       return true;
     return segments_meet_2d(P(a0), P(a1), P(t0), P(t1)) || segments_meet_2d(P(a0), P(a1), P(t1), P(t2)) ||
            segments_meet_2d(P(a0), P(a1), P(t2), P(t0));
   }
-  // The segment meets the plane: inside when the line passes the three edges on one side.
-  const double e0 = orient3d(a0, a1, t0, t1), e1 = orient3d(a0, a1, t1, t2), e2 = orient3d(a0, a1, t2, t0);
-  return (e0 >= 0 && e1 >= 0 && e2 >= 0) || (e0 <= 0 && e1 <= 0 && e2 <= 0);
+  // The segment crosses (or touches) the plane at one point: is it inside the triangle (closed)?
+  const V p = on0 ? a0 : (on1 ? a1 : V(a0 + (d0 / (d0 - d1)) * (a1 - a0)));
+  return point_in_triangle_2d(P(p), P(t0), P(t1), P(t2));
 }
 
 bool triangles_intersect(const V& a0, const V& a1, const V& a2, const V& b0, const V& b1, const V& b2) {

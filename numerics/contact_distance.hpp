@@ -59,9 +59,11 @@ double contact_distance(ContactKind kind, const Vec12& q);
 // relative motion of the closest points (friction's slip) is sum_k w_k dq_k.
 Eigen::Vector4d contact_weights(ContactKind kind, const Vec12& q);
 
-// True when segment a0-a1 crosses triangle t0-t1-t2 (closed: touching counts). Exact in the
-// sense of orientation predicates evaluated in double (no tolerance); used with
-// triangles_intersect as an intersection check, not in a solver.
+// True when segment a0-a1 crosses triangle t0-t1-t2 (closed: touching counts): the point where
+// it crosses the plane tested in the triangle, in 2D; ends within 1e-12 of the sizes from the
+// plane count as on it (a nearly coplanar pair is tested in the plane, where signs of rounded
+// orientations would decide at random). An intersection check for tests and scene starts, not a
+// solver's predicate.
 bool segment_triangle_intersect(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& t0,
                                 const Eigen::Vector3d& t1, const Eigen::Vector3d& t2);
 // True when two triangles share a point (an edge of one crosses the other, or they touch).

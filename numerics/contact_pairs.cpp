@@ -89,7 +89,6 @@ std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std
       if (same && i >= int(j)) return;
       if (a[i].overlaps(b[j])) out.emplace_back(i, int(j));
     });
-  std::sort(out.begin(), out.end());
   return out;
 }
 

@@ -50,7 +50,7 @@ Box3 points_box(double reach, const Eigen::Vector3d& first, const P&... rest) {
 }
 
 // Pairs (i, j), i indexing `a` and j indexing `b`, whose boxes overlap (closed), each pair once,
-// sorted. When `same` is true, a and b are one set: only i < j.
+// in a fixed order (by j, then the hash's order). When `same` is true, a and b are one set: only i < j.
 std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std::vector<Box3>& b, bool same = false);
 
 }  // namespace yarnhom::numerics

@@ -43,6 +43,12 @@ NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const Hess
     S.friction = friction_contacts(P, D.free_index, x_start, x_start);
     S.friction_eps = eps;
   }
+  if (has_contact(P)) {
+    const Eigen::VectorXd y = solve_obstacles(P, S);
+    const Eigen::VectorXd y0 = S.obstacle_y_start.size() == y.size() ? S.obstacle_y_start : y;
+    S.pair_friction = pair_friction_contacts(P, x_start, y0, x_start, y0);
+    S.friction_eps = eps;
+  }
   NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile);
   // Lag updates are more solves: the one-solve step (max_iterations 1) keeps the step-start lag.
   const int updates = opt.max_iterations == 1 ? 0 : P.friction_updates;
@@ -62,7 +68,7 @@ void apply_targets(const DofMap& D, const Eigen::VectorXd& target, Eigen::Vector
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
                               const NewtonSettings& opt, bool profile, std::vector<double>* hinges,
-                              double potential_at_x) {
+                              double potential_at_x, ObstacleMotion* obstacles) {
   StepState S;
   S.dynamic = true;
   S.theta_ref = step_branches(P.mesh, x, hinges);
@@ -71,6 +77,18 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   S.x_tilde = x + h * v;
   if (P.air_drag > 0) S.normals = vertex_normals(P.mesh, x);
   if (P.rayleigh_beta > 0) S.K_prev = elastic_hessian(P, pat, x);
+  const bool contact = has_contact(P);
+  if (obstacles) {
+    S.time = obstacles->time;
+    if (P.gravity_delay > 0 && S.time < P.gravity_delay) S.gravity_scale = 0;
+  }
+  Eigen::VectorXd y0, y1;
+  if (contact) {
+    y0 = obstacles ? obstacles->y : obstacle_positions(P.obstacles, 0.0);
+    y1 = obstacles ? obstacles->target : y0;
+    S.obstacle_y_start = y0;
+    S.obstacle_y = y1;
+  }
   // Initial guess: the inertial prediction, vertex by vertex outside the colliders
   // (feasible_prediction); then the prescribed vertices at their targets.
   Eigen::VectorXd dx = h * v;
@@ -83,12 +101,16 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   // collapse guard's limit, material/collapse_guard.hpp), and a step that only decreases Phi from
   // there bounds nothing. From x_n, Phi(x_{n+1}) <= Phi(x_n) = T_n + E_n (kinetic plus potential
   // energy; the damping terms vanish there), so no step, converged or not, creates energy
-  // beyond E_{n+1} <= T_n + E_n.
+  // beyond E_{n+1} <= T_n + E_n. With contact, both are first made safe to reach from x_n.
   {
     Eigen::VectorXd xs = x;
     apply_targets(D, target, xs);
+    if (contact) {
+      make_move_safe(P, D.free_index, x, xs, y0, y1);
+      make_move_safe(P, D.free_index, x, xn, y0, y1);
+    }
     double phi_start;
-    if (std::isfinite(potential_at_x) && xs == x) {
+    if (std::isfinite(potential_at_x) && xs == x && !contact) {
       // Phi(x_n) = the inertia term, which is the kinetic energy there, plus the potential
       // energy; the damping terms vanish at x_n and friction is not yet lagged.
       double kinetic = 0;
@@ -101,7 +123,38 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) xn = xs;
   }
   StepStats out;
-  out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
+  if (!contact) {
+    out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
+    out.contact_stages = 1;
+  } else {
+    // Stages: move (x_cur -> xn, y_cur -> y1) by what CCD allows, solve, go on from there.
+    Eigen::VectorXd xcur = x, ycur = y0;
+    const int stages = obstacles ? std::max(1, obstacles->max_stages) : 8;
+    for (int stage = 0; stage < stages; ++stage) {
+      if (stage > 0) {
+        apply_targets(D, target, xn);
+        make_move_safe(P, D.free_index, xcur, xn, ycur, y1);
+      }
+      const double t = contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur);
+      if (stage > 0 && !(t > 0)) break;  // nothing can move further: the obstacle lags
+      const bool whole = t >= 1;
+      if (!whole) {
+        const double f = 0.9 * t;
+        xn = xcur + f * (xn - xcur);
+        S.obstacle_y = ycur + f * (y1 - ycur);
+      } else {
+        S.obstacle_y = y1;
+      }
+      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
+      if (stage == 0) out.newton = ns;
+      else accumulate(out.newton, ns);
+      ++out.contact_stages;
+      xcur = xn;
+      ycur = S.obstacle_y;
+      if (whole || !xn.allFinite()) break;
+    }
+    if (obstacles) obstacles->y = ycur;
+  }
   if (hinges) *hinges = hinge_angles(P.mesh, xn, &S.theta_ref);
   v = (xn - x) / h;
   x = xn;
@@ -112,10 +165,10 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
                           const NewtonSettings& opt, bool profile, std::vector<double>* hinges,
-                          double potential_at_x) {
+                          double potential_at_x, ObstacleMotion* obstacles) {
   NewtonSettings one = opt;
   one.max_iterations = 1;
-  StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges, potential_at_x);
+  StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges, potential_at_x, obstacles);
   st.newton.converged = st.finite;  // one solve by design: nothing to converge
   return st;
 }

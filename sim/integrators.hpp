@@ -12,6 +12,13 @@
 //   so no step creates energy, where the unguarded linear step (below) overshoots a soft knit's
 //   curl or shear into collapse at dt = 1/30 s. Colliders and friction act as in the Newton step
 //   (barrier, lagged friction).
+// Contact (sim/contact.hpp: self-collision and obstacles), in both: the move from x_n to
+// Newton's start (the prediction, handles and obstacles moved to their targets) is made safe by
+// make_move_safe (vertices that would pass through cloth stay, those an obstacle would pass
+// through are carried along); when that is not enough, the step goes in stages: everything
+// moves by 0.9 of the safe fraction, Newton solves there, and the next stage starts from its
+// solution, at most ObstacleMotion::max_stages times. Every Newton and line-search step is CCD-
+// limited, so the cloth never crosses itself or an obstacle.
 // baraff_witkin_step: ARCSim-HYLC's integrator (Baraff and Witkin 1998), kept for comparison
 //   with it (`--integrator baraff-witkin`): one linear solve, no line search,
 //     (M (1 + h alpha) + h (h + beta) K + h C_air) dv = h (f - alpha M v - (h + beta) K v - C_air v),
@@ -36,8 +43,18 @@
 
 namespace yarnhom::sim {
 
+// Moving obstacles (sim/obstacles.hpp) across a step: y their positions at the step's start
+// (updated to where they end), target where their path puts them at its end. An obstacle that
+// the cloth blocks (CCD leaves no safe move within `max_stages` solves) lags behind its path.
+struct ObstacleMotion {
+  Eigen::VectorXd y, target;
+  double time = 0;  // s, the step's end (seams, gravity delay)
+  int max_stages = 8;
+};
+
 struct StepStats {
   NewtonStats newton;          // Newton integrator / static solve
+  int contact_stages = 0;      // solves of the step (more than one when a contact limited the start's move)
   bool finite = true;          // every position and velocity finite after the step
   int projected_vertices = 0;  // Baraff-Witkin step: collider projections
 };
@@ -52,13 +69,13 @@ struct StepStats {
 StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                               Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
                               const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr,
-                              double potential_at_x = NAN);
+                              double potential_at_x = NAN, ObstacleMotion* obstacles = nullptr);
 
 // opt: as for the Newton step; its max_iterations is ignored (one).
 StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                           Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,
                           const NewtonSettings& opt, bool profile = false, std::vector<double>* hinges = nullptr,
-                          double potential_at_x = NAN);
+                          double potential_at_x = NAN, ObstacleMotion* obstacles = nullptr);
 
 StepStats baraff_witkin_step(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                              Eigen::VectorXd& x, Eigen::VectorXd& v, const Eigen::VectorXd& target, double h,

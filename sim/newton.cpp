@@ -51,6 +51,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
   NewtonStats st;
   Eigen::SparseMatrix<double> H = pat.matrix;
   Eigen::VectorXd grad(x.size());
+  std::vector<Eigen::Triplet<double>> contact;
   const int F = D.num_free();
   if (F == 0) {
     st.converged = true;
@@ -60,26 +61,42 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
   for (int it = 0; it < opt.max_iterations; ++it) {
     auto t0 = Clock::now();
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
+    contact.clear();
     const double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr,
-                                           &st.shell_energy);
+                                           &st.shell_energy, &contact);
     st.energy = E;
     const Eigen::VectorXd g = gather_free(D, grad);
+    // Contact pairs couple vertices the mesh does not: their triplets are added to the pattern's
+    // matrix, whose pattern then grows (the solver analyses a changed pattern again). Every
+    // column of the lower-triangular sum starts with its diagonal entry.
+    Eigen::SparseMatrix<double>* A = &H;
+    Eigen::SparseMatrix<double> Hc, Hsum;
+    std::vector<int> diag;
+    if (!contact.empty()) {
+      Hc.resize(H.rows(), H.cols());
+      Hc.setFromTriplets(contact.begin(), contact.end());
+      Hsum = H + Hc;
+      A = &Hsum;
+      diag.assign(Hsum.outerIndexPtr(), Hsum.outerIndexPtr() + 3 * F);
+    } else {
+      diag = pat.diag_slots;
+    }
     auto t1 = Clock::now();
     st.t_assemble += seconds(t0, t1);
     // Factorize; on failure shift the diagonal by a growing multiple of its mean magnitude
     // (numerics/newton.hpp's schedule: 1e-8, then x10, 12 shifts at most).
     double mean_diag = 0;
-    for (int k = 0; k < 3 * F; ++k) mean_diag += H.valuePtr()[pat.diag_slots[k]];
+    for (int k = 0; k < 3 * F; ++k) mean_diag += A->valuePtr()[diag[k]];
     mean_diag = std::max(std::abs(mean_diag) / (3 * F), 1e-300);
     double applied = 0;  // the shift already on H's diagonal
     const numerics::ShiftResult shift = numerics::shifted_factorization(
         0.0,
         [&](double mu) {
           if (mu > applied) {
-            for (int k = 0; k < 3 * F; ++k) H.valuePtr()[pat.diag_slots[k]] += (mu - applied) * mean_diag;
+            for (int k = 0; k < 3 * F; ++k) A->valuePtr()[diag[k]] += (mu - applied) * mean_diag;
             applied = mu;
           }
-          return solver.factorize(H);
+          return solver.factorize(*A);
         },
         {1e-8, 10, 13, 0.0});
     if (shift.mu > 0) ++st.shifted;
@@ -101,7 +118,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     Eigen::VectorXd xn, xt;
     double shell_n = NAN, shell_t = NAN;  // E_shell at xn and xt (the accepted trial is the last evaluated)
     const numerics::LineSearchResult ls = numerics::armijo_backtracking(
-        E, slope, max_feasible_step(P, x, p),
+        E, slope, max_feasible_step(P, x, p, &S),
         [&](double alpha) {
           xn = x + alpha * p;
           return potential_value(P, D, S, xn, &shell_n);
@@ -115,7 +132,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     // Hessian flattened to zero: the step is too short there. Extend it while the energy keeps
     // falling (up to 16 steps, within the collider bound), instead of creeping.
     if (!last && ls.accepted && alpha == 1.0 && En - E < 0.5 * slope) {
-      const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p));  // multiple of p allowed from x
+      const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p, &S));  // multiple of p allowed from x
       const numerics::Extension ext = numerics::extend_step(
           1.0, En, slope, 4, 0.0,
           [&](double a) {
@@ -138,7 +155,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     }
     if (std::getenv("YARNHOM_SIM_DEBUG"))
       std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g, ccd %.3g\n", it, E, En,
-                   st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p));
+                   st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p, &S));
     x = xn;
     st.energy = En;
     st.shell_energy = shell_n;

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "numerics/barrier.hpp"
+#include "sim/garment.hpp"
 
 namespace yarnhom::sim {
 
@@ -30,8 +31,9 @@ double vertex_terms(const Problem& P, const StepState& S, const Eigen::VectorXd&
                     Eigen::Matrix3d* H) {
   const Eigen::Vector3d xv = x.segment<3>(3 * v);
   const double m = P.mass[v], A = P.vertex_area[v];
-  double E = -m * P.gravity.dot(xv);
-  if (g) *g = -m * P.gravity;
+  const Eigen::Vector3d gravity = S.gravity_scale * P.gravity;
+  double E = -m * gravity.dot(xv);
+  if (g) *g = -m * gravity;
   if (H) H->setZero();
   if (S.dynamic) {
     const double h = S.h;
@@ -101,12 +103,18 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
   if (shell) *shell = E;
   for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
   for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
+  if (has_contact(P)) {
+    const Eigen::VectorXd y = solve_obstacles(P, S);
+    E += contact_energy(P, D.free_index, x, y);
+    if (!S.pair_friction.empty()) E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y);
+  }
+  if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time);
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
 }
 
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings,
-                             double* shell) {
+                             double* shell, std::vector<Eigen::Triplet<double>>* contact) {
   grad.setZero(x.size());
   double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
                                       S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter);
@@ -127,6 +135,13 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
     grad.segment<3>(3 * c.vertex) += g;
     if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
   }
+  if (has_contact(P)) {
+    const Eigen::VectorXd y = solve_obstacles(P, S);
+    E += contact_energy(P, D.free_index, x, y, &grad, contact);
+    if (!S.pair_friction.empty())
+      E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y, &grad, contact);
+  }
+  if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time, &grad, contact);
   return E + rayleigh_beta_term(P, D, S, x, &grad, values);
 }
 
@@ -151,7 +166,17 @@ Eigen::VectorXd potential_energy_gradient(const Problem& P, const Eigen::VectorX
   return g;
 }
 
-double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p) {
+Eigen::VectorXd solve_obstacles(const Problem& P, const StepState& S) {
+  if (S.obstacle_y.size() == 3 * P.obstacles.num_points) return S.obstacle_y;
+  return obstacle_positions(P.obstacles, 0.0);
+}
+
+double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p, const StepState* S) {
+  double tc = 1.0;
+  if (S && has_contact(P)) {
+    const Eigen::VectorXd y = solve_obstacles(P, *S);
+    tc = contact_step_bound(P, x, p, y, Eigen::VectorXd::Zero(y.size()));
+  }
   double t = 1.0;
   for (const Collider& c : P.colliders)
     for (int v = 0; v < P.mesh.num_vertices(); ++v) {
@@ -159,7 +184,7 @@ double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen
       if (pv.squaredNorm() == 0) continue;
       t = std::min(t, collider_time_of_impact(c, x.segment<3>(3 * v), pv));
     }
-  return t < 1.0 ? 0.9 * t : 1.0;
+  return std::min(t < 1.0 ? 0.9 * t : 1.0, tc);
 }
 
 Eigen::VectorXd feasible_prediction(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& dx) {

@@ -9,6 +9,9 @@
 //          + 1/(2h) (x - x_n)^T (alpha M + beta K_n) (x - x_n)     Rayleigh damping
 //          + c_air/(2h) sum_v A_v ((x_v - x_v^n) . n_v)^2        air drag on the normal velocity
 //          + sum_k mu lambda_k f0(|T_k^T (x_k - x_k^n)|)            lagged friction (sim/friction.hpp)
+//          + sum_pairs kappa_J b(z(D_pair(x, y)))                   surface contact (sim/contact.hpp):
+//            the cloth with itself and with the obstacles, at their positions y for this solve
+//          + sum_pairs mu lambda f0(|u_pair|)                       ... and its lagged friction
 //
 // whose stationarity is implicit Euler with those forces: M (x - x~)/h^2 = f(x), damping
 // forces -(alpha M + beta K_n) v and -c_air A (v.n) n with v = (x - x_n)/h (K_n and n_v frozen at
@@ -17,6 +20,7 @@
 // the friction of the displacement from the previous load step).
 #include <Eigen/Sparse>
 
+#include "sim/contact.hpp"
 #include "sim/dof_map.hpp"
 #include "sim/friction.hpp"
 #include "sim/hessian_pattern.hpp"
@@ -35,6 +39,11 @@ struct StepState {
                                        // projected elastic Hessian at x_n (beta damping)
   std::vector<FrictionContact> friction;  // lagged contacts (sim/friction.hpp); empty: frictionless
   double friction_eps = 0;                // m, eps_v h (statics: eps_v x 1 s)
+  double time = 0;                   // s, the step's end (seams, gravity delay)
+  double gravity_scale = 1;          // 0 before the problem's gravity delay
+  Eigen::VectorXd obstacle_y;        // 3K obstacle positions during this solve (sim/obstacles.hpp)
+  Eigen::VectorXd obstacle_y_start;  // ... at the step's start (friction's slip)
+  std::vector<PairFriction> pair_friction;  // lagged friction of contact pairs (sim/contact.hpp)
   std::vector<double> theta_ref;  // 3 per triangle: the dihedral angles' branches (sim/hinge_angles.hpp); empty: (-pi, pi]
 };
 
@@ -47,9 +56,13 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
 
 // Value; gradient (3n, every vertex) written to grad; Hessian over the free vertices added to
 // values (the pattern's value array) when given. shell (optional): E_shell(x) alone.
+// contact (optional): the contact pairs' Hessian (barrier and friction, lower triangle over the
+// free unknowns) as triplets, which may couple vertices outside the pattern; without it the
+// contact Hessian is left out (the gradient always has it).
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values,
-                             ShellTimings* timings = nullptr, double* shell = nullptr);
+                             ShellTimings* timings = nullptr, double* shell = nullptr,
+                             std::vector<Eigen::Triplet<double>>* contact = nullptr);
 
 // The potential energy's per-vertex part, gravity and colliders (what a static state's
 // potential_value adds to E_shell): O(vertices), so that a step that knows E_shell at its end
@@ -62,7 +75,13 @@ Eigen::VectorXd potential_energy_gradient(const Problem& P, const Eigen::VectorX
 
 // Largest step fraction in (0, 1] along p (3n) that keeps every vertex outside the colliders,
 // scaled by 0.9 when limited (IPC's filtered line search).
-double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p);
+// With S (optional), contact pairs bound it too (sim/contact.hpp: contact_step_bound, obstacles
+// held at S.obstacle_y).
+double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p,
+                         const StepState* S = nullptr);
+
+// The obstacle positions of a solve: S's, else the obstacles at t = 0.
+Eigen::VectorXd solve_obstacles(const Problem& P, const StepState& S);
 
 // A time step's initial guess x + dx, vertex by vertex: a vertex whose own move would reach a
 // collider stays where it is; every other vertex takes its whole move. (Shortening the whole

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "sim/garment.hpp"
 #include "sim/rectangle.hpp"
 
 namespace yarnhom::sim {
@@ -27,7 +28,9 @@ const char* integrator_name(Integrator i) {
   return "?";
 }
 
-bool is_builtin_scene(const std::string& name) { return name == "drape" || name == "hang" || name == "stretch"; }
+bool is_builtin_scene(const std::string& name) {
+  return name == "drape" || name == "hang" || name == "stretch" || name == "fold" || name == "tshirt";
+}
 
 int triangle_at(const Mesh& m, const Eigen::Vector2d& p) {
   int best = 0;
@@ -125,17 +128,53 @@ Scene stretch(int n, char dir, const StretchSize& size) {
   return s;
 }
 
+// A 0.4 m square sheet 3 cm above a floor, over a thin rod (a capsule of radius 6 mm lying on
+// the floor along the wale, under the sheet's middle). It falls onto rod and floor; from 0.3 s
+// its left edge (a handle) is lifted over the rod and laid down above the right half (by
+// 1.0 s), so that the left half folds over the rod onto the right one. Friction 0.3 with floor
+// and rod, 0.2 between the layers.
+Scene fold(int n) {
+  const double L = 0.4, r = 0.006;
+  Scene s;
+  s.name = "fold";
+  s.mesh = make_rectangle(L, L, n, n);
+  for (int v = 0; v < s.mesh.num_vertices(); ++v) s.mesh.x.row(v) << s.mesh.rest(v, 0) - L / 2, s.mesh.rest(v, 1) - L / 2, 0.03;
+  Collider floor;
+  floor.kind = Collider::Kind::Plane;
+  floor.center.setZero();
+  floor.normal = Eigen::Vector3d::UnitZ();
+  floor.friction = 0.3;
+  s.colliders = {floor};
+  CapsuleObstacle rod;
+  rod.a = Eigen::Vector3d(0, -0.6 * L, r);
+  rod.b = Eigen::Vector3d(0, 0.6 * L, r);
+  rod.radius = r;
+  rod.friction = 0.3;
+  s.obstacles.capsules = {rod};
+  s.self_friction = 0.2;
+  Handle edge;
+  for (int j = 0; j <= n; ++j) edge.vertices.push_back(rectangle_vertex(n, 0, j));
+  // Up and over: (t, dx, dy, dz) from the edge's start at x = -L/2, z = 3 cm.
+  edge.path = {{0.0, 0, 0, 0}, {0.3, 0, 0, 0}, {0.55, 0.12, 0, 0.14}, {0.8, 0.3, 0, 0.10}, {1.0, 0.37, 0, -0.003}};
+  s.handles = {edge};
+  s.frames = 45;
+  s.render_frames = {0, 15, 25, 45};
+  return s;
+}
+
 }  // namespace
 
 Scene builtin_scene(const std::string& name, int resolution, char direction, const StretchSize& size) {
   if (resolution < 0 || resolution > 2000) throw std::invalid_argument("--resolution must be between 1 and 2000");
   if (name == "drape") return drape(resolution ? resolution : 40);
   if (name == "hang") return hang(resolution ? resolution : 30);
+  if (name == "fold") return fold(resolution ? resolution : 24);
+  if (name == "tshirt") return tshirt_scene(resolution ? resolution : 4);
   if (name == "stretch") {
     if (direction != 'x' && direction != 'y') throw std::invalid_argument("stretch direction must be course or wale");
     return stretch(resolution, direction, size);
   }
-  throw std::invalid_argument("scene '" + name + "': not a built-in scene (drape, hang, stretch) nor a .json file");
+  throw std::invalid_argument("scene '" + name + "': not a built-in scene (drape, hang, stretch, fold, tshirt) nor a .json file");
 }
 
 }  // namespace yarnhom::sim

@@ -11,6 +11,8 @@
 #include "sim/handles.hpp"
 #include "sim/mesh.hpp"
 #include "sim/newton.hpp"
+#include "sim/obstacles.hpp"
+#include "sim/problem.hpp"
 
 namespace yarnhom::sim {
 
@@ -38,6 +40,13 @@ struct Scene {
   Eigen::Vector3d gravity = Eigen::Vector3d(0, 0, -9.81);
   std::vector<Handle> handles;            // pins and moving handles
   std::vector<Collider> colliders;
+  ObstacleSet obstacles;                  // capsules and mesh colliders (sim/obstacles.hpp)
+  bool self_collision = true;             // the cloth against itself (sim/contact.hpp)
+  double self_friction = -1;              // mu between cloth layers; < 0: the scene's global friction
+  std::vector<Stitch> stitches;           // seams (sim/garment.hpp); offset0 filled from the start positions
+  double stitch_stiffness = 0;            // N/m per stitch
+  double sew_time = 0.5;                  // s
+  double gravity_delay = 0;               // s: no gravity before (a garment is sewn weightless)
   double dhat = 1e-3;                     // m
   double kappa = 0;                       // Pa; 0 = 100 x areal density x |g|
   double rayleigh_alpha = 0, rayleigh_beta = 0, air_drag = 0;
@@ -57,6 +66,9 @@ struct Scene {
 //   falls and drapes; 90 frames of 1/30 s; friction mu = 0.3 with both (cloth on a smooth solid).
 // hang: a 0.5 m square sheet held horizontally by two adjacent corners, released; it swings
 //   down and hangs; 90 frames of 1/30 s.
+// fold: a 0.4 m square sheet falls onto a thin rod (a capsule lying on the floor) and its left
+//   half is folded over the rod onto its right half by a handle on its left edge (self-contact).
+// tshirt: a T-shirt made by the program, sewn on a mannequin of capsules (sim/garment.hpp).
 // stretch: a 5 cm x 10 cm strip, long axis along the course (x) or the wale (y), both short
 //   ends clamped (every vertex within 5 mm of the end fixed in all three coordinates, the yarn
 //   strip's clamp band), the far clamp moved

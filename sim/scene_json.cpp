@@ -131,17 +131,76 @@ void read_handles(const Reader& r, const json& j, Scene& s) {
   }
 }
 
-// "colliders", "barrier" and "friction".
+// A keyframe path [[t, dx, dy, dz], ...] with increasing times.
+std::vector<std::array<double, 4>> read_path(const Reader& r, const json& p, const std::string& key) {
+  if (!p.is_array() || p.empty()) r.fail(key, "must be a non-empty array of [t, dx, dy, dz]");
+  std::vector<std::array<double, 4>> out;
+  for (const json& kf : p) {
+    if (!kf.is_array() || kf.size() != 4) r.fail(key, "each keyframe must be [t, dx, dy, dz]");
+    std::array<double, 4> a;
+    for (int i = 0; i < 4; ++i) a[i] = r.number(kf[i], key);
+    if (!out.empty() && !(a[0] > out.back()[0])) r.fail(key, "keyframe times must increase");
+    out.push_back(a);
+  }
+  return out;
+}
+
+// A capsule {"a", "b", "radius", "path"} or a mesh collider {"obj" | "frames", "frame_dt", "scale",
+// "translate"} (sim/obstacles.hpp); friction < 0: the global one (set later).
+void read_obstacle(const Reader& r, const json& jc, const std::string& key, double friction, Scene& s) {
+  if (jc.contains("capsule")) {
+    const json& c = jc["capsule"];
+    const std::string k = key + ".capsule";
+    r.only(c, k, {"a", "b", "radius", "path"});
+    for (const char* need : {"a", "b", "radius"})
+      if (!c.contains(need)) r.fail(k + "." + need, "missing");
+    CapsuleObstacle cap;
+    cap.a = r.vec3(c["a"], k + ".a");
+    cap.b = r.vec3(c["b"], k + ".b");
+    if (!((cap.b - cap.a).norm() > 0)) r.fail(k + ".b", "must differ from a (a capsule's axis has a length)");
+    cap.radius = r.positive(c["radius"], k + ".radius");
+    if (c.contains("path")) cap.path = read_path(r, c["path"], k + ".path");
+    cap.friction = friction;
+    s.obstacles.capsules.push_back(cap);
+    return;
+  }
+  const json& m = jc["mesh"];
+  const std::string k = key + ".mesh";
+  r.only(m, k, {"obj", "frames", "frame_dt", "scale", "translate"});
+  std::vector<std::string> files;
+  if (m.contains("obj") == m.contains("frames")) r.fail(k, "give obj (a static mesh) or frames (a list of OBJ files)");
+  if (m.contains("obj")) files.push_back(r.path(m["obj"], k + ".obj"));
+  if (m.contains("frames")) {
+    if (!m["frames"].is_array() || m["frames"].empty()) r.fail(k + ".frames", "must be a non-empty array of OBJ files");
+    for (const json& f : m["frames"]) files.push_back(r.path(f, k + ".frames"));
+  }
+  const double dt = m.contains("frame_dt") ? r.positive(m["frame_dt"], k + ".frame_dt") : 1.0 / 30;
+  const double scale = m.contains("scale") ? r.positive(m["scale"], k + ".scale") : 1.0;
+  const Eigen::Vector3d off = m.contains("translate") ? r.vec3(m["translate"], k + ".translate") : Eigen::Vector3d::Zero();
+  try {
+    MeshObstacle mo = read_mesh_obstacle(files, dt, scale, off);
+    mo.friction = friction;
+    s.obstacles.meshes.push_back(std::move(mo));
+  } catch (const std::invalid_argument& e) {
+    r.fail(k, e.what());
+  }
+}
+
+// "colliders", "barrier", "friction" and "self_collision".
 void read_contact(const Reader& r, const json& j, Scene& s) {
   if (j.contains("colliders")) {
     if (!j["colliders"].is_array()) r.fail("colliders", "must be an array");
     for (size_t k = 0; k < j["colliders"].size(); ++k) {
       const std::string key = "colliders[" + std::to_string(k) + "]";
       const json& jc = j["colliders"][k];
-      r.only(jc, key, {"sphere", "plane", "friction"});
+      r.only(jc, key, {"sphere", "plane", "capsule", "mesh", "friction"});
       Collider c;
       c.friction = -1;  // none of its own: the global "friction" (below), else 0
       if (jc.contains("friction")) c.friction = r.nonnegative(jc["friction"], key + ".friction");
+      if (jc.contains("capsule") || jc.contains("mesh")) {
+        read_obstacle(r, jc, key, c.friction, s);
+        continue;
+      }
       if (jc.contains("sphere")) {
         const json& sp = r.both(jc["sphere"], key + ".sphere", "center", "radius");
         c.kind = Collider::Kind::Sphere;
@@ -182,6 +241,26 @@ void read_contact(const Reader& r, const json& j, Scene& s) {
   }
   for (Collider& c : s.colliders)
     if (c.friction < 0) c.friction = mu;
+  for (CapsuleObstacle& c : s.obstacles.capsules)
+    if (c.friction < 0) c.friction = mu;
+  for (MeshObstacle& m : s.obstacles.meshes)
+    if (m.friction < 0) m.friction = mu;
+  // Self-collision: true | false | {"enabled": bool, "friction": mu} (default on, friction the global one).
+  s.self_friction = mu;
+  if (j.contains("self_collision")) {
+    const json& sc = j["self_collision"];
+    if (sc.is_boolean()) {
+      s.self_collision = sc.get<bool>();
+    } else {
+      if (!sc.is_object()) r.fail("self_collision", "must be true, false or {\"enabled\": bool, \"friction\": mu}");
+      r.only(sc, "self_collision", {"enabled", "friction"});
+      if (sc.contains("enabled")) {
+        if (!sc["enabled"].is_boolean()) r.fail("self_collision.enabled", "must be true or false");
+        s.self_collision = sc["enabled"].get<bool>();
+      }
+      if (sc.contains("friction")) s.self_friction = r.nonnegative(sc["friction"], "self_collision.friction");
+    }
+  }
 }
 
 // "damping", "integrator", "dt", "substeps", "frames", "newton".
@@ -251,7 +330,7 @@ Scene read_scene_json(const std::string& file) {
   const json j = io::read_json_file(file);
   const Reader r{{file}};
   r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
-                 "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
+                 "self_collision", "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
   Scene s;
   s.name = std::filesystem::path(file).stem().string();
   if (j.contains("name")) {

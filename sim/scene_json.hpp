@@ -8,6 +8,10 @@
 //     "pins": [SELECTION, ...],
 //     "handles": [{"select": SELECTION, "path": [[t, dx, dy, dz], ...]}, ...],
 //     "colliders": [{"sphere": {"center": [..], "radius": r}, "friction": 0.3}, {"plane": {"point": [..], "normal": [..]}}],
+//     "colliders": [... {"capsule": {"a": [..], "b": [..], "radius": r, "path": [[t, dx, dy, dz], ...]}},
+//                   {"mesh": {"obj": "body.obj" | "frames": ["f0.obj", ...], "frame_dt": 0.0333,
+//                             "scale": 1, "translate": [x, y, z]}}],          (sim/obstacles.hpp)
+//     "self_collision": true | false | {"enabled": true, "friction": 0.2},   (default on; friction: the global one)
 //     "barrier": {"dhat": 1e-3, "kappa": 100},
 //     "friction": 0.3 | {"mu": 0.3, "eps_v": 7e-4, "updates": 0},      (colliders without their own)
 //     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},

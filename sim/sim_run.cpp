@@ -41,6 +41,9 @@ void write_scene_info(const std::string& dir, const Scene& s) {
       j["colliders"].push_back({{"plane", {{"point", {c.center.x(), c.center.y(), c.center.z()}},
                                            {"normal", {c.normal.x(), c.normal.y(), c.normal.z()}}}}});
   }
+  for (const CapsuleObstacle& c : s.obstacles.capsules)
+    j["colliders"].push_back({{"capsule", {{"a", {c.a.x(), c.a.y(), c.a.z()}}, {"b", {c.b.x(), c.b.y(), c.b.z()}},
+                                           {"radius", c.radius}, {"moving", !c.path.empty()}}}});
   std::ofstream((fs::path(dir) / "scene_info.json").string()) << j.dump(1) << "\n";
 }
 
@@ -119,8 +122,17 @@ Scene make_scene(const SimRunOptions& o) {
   if (o.alpha >= 0) s.rayleigh_alpha = o.alpha;
   if (o.beta >= 0) s.rayleigh_beta = o.beta;
   if (o.air >= 0) s.air_drag = o.air;
-  if (o.friction >= 0)
+  if (o.friction >= 0) {
     for (Collider& c : s.colliders) c.friction = o.friction;
+    for (CapsuleObstacle& c : s.obstacles.capsules) c.friction = o.friction;
+    for (MeshObstacle& m : s.obstacles.meshes) m.friction = o.friction;
+  }
+  if (!o.self_collision.empty()) {
+    if (o.self_collision != "on" && o.self_collision != "off")
+      throw std::invalid_argument("--self-collision: expected on or off, not '" + o.self_collision + "'");
+    s.self_collision = o.self_collision == "on";
+  }
+  if (o.dhat > 0) s.dhat = o.dhat;
   if (o.eps_v > 0) s.friction_eps_v = o.eps_v;
   if (o.friction_updates >= 0) s.friction_updates = o.friction_updates;
   if (!o.render.empty()) {

@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "core/atomic_file.hpp"
+#include "sim/contact.hpp"
+#include "sim/garment.hpp"
 #include "sim/hinge_angles.hpp"
 #include "sim/integrators.hpp"
 #include "sim/obj_io.hpp"
@@ -124,6 +126,30 @@ Problem scene_problem(const Scene& scene, const MaterialFn& material, double den
   // Friction's sticking velocity: IPC's default, 1e-3 sheet sizes per second.
   P.friction_eps_v = scene.friction_eps_v > 0 ? scene.friction_eps_v : 1e-3 * rest_diagonal(P.mesh);
   P.friction_updates = scene.friction_updates;
+  P.obstacles = scene.obstacles;
+  finish_obstacles(P.obstacles);
+  P.self_collision = scene.self_collision;
+  P.self_friction = std::max(0.0, scene.self_friction);
+  // ARCSim-HYLC's step has no barrier: no self-collision there, and no surface colliders.
+  if (scene.integrator == Integrator::BaraffWitkin) {
+    P.self_collision = false;
+    if (!P.obstacles.empty())
+      throw std::invalid_argument("the baraff-witkin integrator has no contact handling: capsule and mesh colliders need "
+                                  "--integrator newton or linearized");
+  }
+  if (has_contact(P)) P.edges = cloth_edges(P.mesh);
+  // Seams: each stitch's starting offset, and the stitched vertices' shared representatives.
+  P.stitches = scene.stitches;
+  for (Stitch& st : P.stitches) {
+    if (st.a < 0 || st.b < 0 || st.a >= P.mesh.num_vertices() || st.b >= P.mesh.num_vertices() || st.a == st.b)
+      throw std::invalid_argument("a seam's stitch joins vertices " + std::to_string(st.a) + " and " + std::to_string(st.b) +
+                                  ": each must be a vertex of the mesh, and they must differ");
+    st.offset0 = (P.mesh.x.row(st.a) - P.mesh.x.row(st.b)).transpose();
+  }
+  P.stitch_stiffness = scene.stitch_stiffness;
+  P.sew_time = scene.sew_time;
+  P.gravity_delay = scene.gravity_delay;
+  if (!P.stitches.empty()) P.vertex_rep = stitch_representatives(P.mesh.num_vertices(), P.stitches);
   return P;
 }
 
@@ -133,6 +159,18 @@ void require_outside_colliders(const Problem& P, const Eigen::VectorXd& x0) {
     for (size_t c = 0; c < P.colliders.size(); ++c)
       if (!(collider_distance(P.colliders[c], x0.segment<3>(3 * v)) > 0))
         throw std::invalid_argument("vertex " + std::to_string(v) + " starts inside collider " + std::to_string(c));
+}
+
+// With contact, the start must be free of intersections and every pair beyond its d_min.
+void require_contact_free_start(const Problem& P, const Eigen::VectorXd& x0) {
+  if (!has_contact(P)) return;
+  const Eigen::VectorXd y = obstacle_positions(P.obstacles, 0.0);
+  std::string what;
+  if (contact_intersections(P, x0, y, &what))
+    throw std::invalid_argument("the cloth starts intersecting: " + what +
+                                (P.self_collision ? " (self-collision needs a start without; --self-collision off ignores it)" : ""));
+  if (!std::isfinite(contact_energy(P, {}, x0, y)))
+    throw std::invalid_argument("the cloth starts touching an obstacle or itself (a contact pair at or below its minimum distance)");
 }
 
 // OUT/frames/ and OUT/steps.csv with its header.
@@ -210,6 +248,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
 
   const Eigen::VectorXd x0 = flatten(P.mesh.x);
   require_outside_colliders(P, x0);
+  require_contact_free_start(P, x0);
   SimResult R;
   R.kappa = P.kappa;
   R.friction_eps_v = P.friction_eps_v;
@@ -267,6 +306,9 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   double last_potential = NAN;  // the recorded potential energy at x (spares the next step a pass)
   Eigen::VectorXd& x = R.x;
   Eigen::VectorXd& v = R.v;
+  ObstacleMotion motion;  // the obstacles' positions, carried from step to step
+  motion.y = obstacle_positions(P.obstacles, 0.0);
+  R.obstacles = motion.y;
   for (int frame = 1; frame <= scene.frames; ++frame) {
     const int nsub = dynamic ? scene.substeps : 1;
     for (int k = 0; k < nsub; ++k) {
@@ -279,10 +321,12 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       if (dynamic) {
         rec.time = step * h;
         const Eigen::VectorXd target = handle_targets(scene.handles, x0, rec.time);
+        motion.target = obstacle_positions(P.obstacles, rec.time);
+        motion.time = rec.time;
         if (scene.integrator == Integrator::Newton)
-          st = implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential);
+          st = implicit_euler_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential, &motion);
         else if (scene.integrator == Integrator::Linearized)
-          st = linearized_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential);
+          st = linearized_step(P, D, pat, solver, x, v, target, h, nopt, set.profile, &hinges, last_potential, &motion);
         else
           st = baraff_witkin_step(P, D, pat, solver, x, v, target, h, set.profile, &hinges);
       } else {
@@ -294,6 +338,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
       record_step(rec, st, P, D, x, v, hinges);
+      R.obstacles = motion.y;
       last_potential = rec.potential;
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)

@@ -59,6 +59,7 @@ struct SimResult {
   std::vector<StepRecord> steps;
   std::vector<StretchRow> stretch;
   Eigen::VectorXd x, v;          // final state, 3n
+  Eigen::VectorXd obstacles;     // the obstacles' positions (sim/obstacles.hpp) at that state, 3K
   double kappa = 0;              // the barrier stiffness used
   double friction_eps_v = 0;     // friction's sticking velocity used, m/s
   double tol_step = 0;           // the Newton tolerance used, m

@@ -65,6 +65,25 @@ def sphere_faces(cen, r, nu=48, nv=24):
     return quads.reshape(-1, 4, 3)
 
 
+def capsule_faces(a, b, r, nu=32, nv=16):
+    """A capsule (segment a-b, radius r) as quads [m, 4, 3]: a cylinder and two half spheres."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    ax = b - a
+    L = np.linalg.norm(ax)
+    w = ax / L
+    t = np.cross(w, [1.0, 0, 0] if abs(w[0]) < 0.9 else [0, 1.0, 0])
+    t /= np.linalg.norm(t)
+    s = np.cross(w, t)
+    u = np.linspace(0, 2 * np.pi, nu + 1)
+    # Profile: polar angle from -pi/2 (a's cap) to pi/2 (b's cap), the cylinder between.
+    th = np.concatenate([np.linspace(-np.pi / 2, 0, nv // 2 + 1), np.linspace(0, np.pi / 2, nv // 2 + 1)])
+    off = np.concatenate([np.zeros(nv // 2 + 1), np.full(nv // 2 + 1, L)])
+    ring = np.cos(th)[None, :, None] * r * (np.cos(u)[:, None, None] * t + np.sin(u)[:, None, None] * s)
+    P = a + ring + (np.sin(th) * r + off)[None, :, None] * w
+    quads = np.stack([P[:-1, :-1], P[1:, :-1], P[1:, 1:], P[:-1, 1:]], axis=2)
+    return quads.reshape(-1, 4, 3)
+
+
 def hidden_by(points, tris, d):
     """For each point, whether the ray point + t d (t > 0) hits one of the triangles [m, 3, 3]
     (Moller-Trumbore, vectorized in chunks)."""
@@ -96,6 +115,9 @@ def scene_box(out, info, frames):
         if "sphere" in c:
             cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
             lo, hi = np.minimum(lo, cen - r), np.maximum(hi, cen + r)
+        if "capsule" in c and not c["capsule"].get("moving"):
+            q = capsule_faces(c["capsule"]["a"], c["capsule"]["b"], c["capsule"]["radius"]).reshape(-1, 3)
+            lo, hi = np.minimum(lo, q.min(axis=0)), np.maximum(hi, q.max(axis=0))
     for c in info.get("colliders", []):
         if "plane" in c and abs(c["plane"]["normal"][2]) > 0.9:
             lo[2] = min(lo[2], c["plane"]["point"][2])
@@ -119,6 +141,18 @@ def render(obj, info, out_png, title, box, dpi=110):
     polys, colours = list(tris), list(shade(tris))
     d = view_dir()
     for c in info.get("colliders", []):
+        if "capsule" in c and not c["capsule"].get("moving"):  # a moving one's path is not in scene_info
+            cp = c["capsule"]
+            q = capsule_faces(cp["a"], cp["b"], cp["radius"])
+            mid = q.mean(axis=1)
+            a, b = np.array(cp["a"]), np.array(cp["b"])
+            w = (b - a) / np.linalg.norm(b - a)
+            foot = a + np.clip((mid - a) @ w, 0, np.linalg.norm(b - a))[:, None] * w
+            front = (mid - foot) @ d > 0
+            q, mid = q[front], mid[front]
+            keep = ~hidden_by(mid + 1e-4 * cp["radius"] * d, tris, d)
+            polys += list(q[keep])
+            colours += [(0.72, 0.74, 0.78)] * int(keep.sum())
         if "sphere" in c:
             cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
             q = sphere_faces(cen, r)

@@ -5,6 +5,7 @@
 // intersection test on hand-made and random cases.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <random>
 
 #include "numerics/contact_pairs.hpp"
@@ -145,7 +146,8 @@ TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairs) {
   }
   for (bool same : {false, true}) {
     const std::vector<Box3>& bb = same ? a : b;
-    const auto got = box_pairs(a, bb, same);
+    auto got = box_pairs(a, bb, same);
+    std::sort(got.begin(), got.end());
     std::vector<std::pair<int, int>> ref;
     for (int i = 0; i < 300; ++i)
       for (int j = 0; j < 300; ++j)
@@ -166,6 +168,14 @@ TEST(ContactDistance, TriangleIntersectionOnHandMadeAndRandomCases) {
   EXPECT_FALSE(triangles_intersect(a0, a1, a2, V(1, 1, 0), V(2, 1, 0), V(1, 2, 0)));
   // Touching at a point: yes (closed).
   EXPECT_TRUE(triangles_intersect(a0, a1, a2, V(0.5, 0.5, 0), V(1, 1, 1), V(1, 1, -1)));
+  // Far apart in one tilted plane (a flat sheet's non-adjacent triangles): no, whatever the
+  // rounding of the tilt.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.3, V(1, 2, 3).normalized()).toRotationMatrix();
+  for (int k = 0; k < 50; ++k) {
+    const V o(0.0137 * k, 0.011 * k, 0);
+    EXPECT_FALSE(triangles_intersect(R * a0, R * a1, R * a2, R * (o + V(2, 0, 0)), R * (o + V(3, 0, 0)), R * (o + V(2, 1, 0))));
+    EXPECT_TRUE(triangles_intersect(R * a0, R * a1, R * a2, R * (o * 0 + V(0.2, 0.2, 0)), R * V(0.3, 0.2, 0), R * V(0.2, 0.3, 0)));
+  }
   // Random: intersecting pairs have distance 0 between some edge and the other triangle, and
   // separated ones are found apart by a positive margin of the point-triangle/edge distances.
   std::mt19937 rng(9);

@@ -1,0 +1,343 @@
+#include "sim/contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+
+#include "numerics/contact_pairs.hpp"
+#include "numerics/psd_projection.hpp"
+#include "sim/friction.hpp"
+
+namespace yarnhom::sim {
+
+using numerics::Box3;
+using numerics::ContactKind;
+using numerics::Vec12;
+using numerics::Mat12;
+using V3 = Eigen::Vector3d;
+
+std::vector<Eigen::Vector2i> cloth_edges(const Mesh& mesh) {
+  std::vector<Eigen::Vector2i> e;
+  for (int t = 0; t < mesh.num_triangles(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      int a = mesh.tris(t, i), b = mesh.tris(t, (i + 1) % 3);
+      if (a > b) std::swap(a, b);
+      e.emplace_back(a, b);
+    }
+  std::sort(e.begin(), e.end(), [](const Eigen::Vector2i& p, const Eigen::Vector2i& q) {
+    return p[0] != q[0] ? p[0] < q[0] : p[1] < q[1];
+  });
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  return e;
+}
+
+bool has_contact(const Problem& P) { return P.self_collision || !P.obstacles.empty(); }
+
+namespace {
+
+V3 at(const Eigen::VectorXd& v, int k) { return v.segment<3>(3 * k); }
+
+// Point k of the slot's owner at (x, y).
+V3 slot_position(int s, const Eigen::VectorXd& x, const Eigen::VectorXd& y) { return s >= 0 ? at(x, s) : at(y, -1 - s); }
+
+template <class Idx>
+Box3 move_box(const Idx& idx, int n, const Eigen::VectorXd& p0, const Eigen::VectorXd& p1, double reach) {
+  Box3 b{at(p0, idx[0]), at(p0, idx[0])};
+  for (int i = 0; i < n; ++i)
+    for (const Eigen::VectorXd* p : {&p0, &p1}) {
+      b.lo = b.lo.cwiseMin(at(*p, idx[i]));
+      b.hi = b.hi.cwiseMax(at(*p, idx[i]));
+    }
+  b.lo.array() -= reach;
+  b.hi.array() += reach;
+  return b;
+}
+
+// The vertex's representative: stitched vertices count as one (Problem::vertex_rep).
+int rep(const Problem& P, int v) { return P.vertex_rep.empty() ? v : P.vertex_rep[v]; }
+bool shares(const Problem& P, const Eigen::Vector3i& t, int v) {
+  const int r = rep(P, v);
+  return rep(P, t[0]) == r || rep(P, t[1]) == r || rep(P, t[2]) == r;
+}
+
+}  // namespace
+
+std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) {
+  std::vector<ContactPair> out;
+  if (!has_contact(P)) return out;
+  const Mesh& m = P.mesh;
+  const ObstacleSet& O = P.obstacles;
+  const double half = 0.5 * P.dhat;
+  const int n = m.num_vertices(), nt = m.num_triangles(), ne = int(P.edges.size());
+  std::vector<Box3> vb(n), tb(nt), eb(ne);
+  for (int v = 0; v < n; ++v) vb[v] = move_box(std::array<int, 1>{v}, 1, x0, x1, half);
+  std::vector<Eigen::Vector3i> tris(nt);
+  for (int t = 0; t < nt; ++t) {
+    tris[t] = m.tris.row(t).transpose();
+    tb[t] = move_box(tris[t], 3, x0, x1, half);
+  }
+  for (int e = 0; e < ne; ++e) eb[e] = move_box(P.edges[e], 2, x0, x1, half);
+  if (P.self_collision) {
+    for (const auto& [t, v] : numerics::box_pairs(tb, vb)) {
+      if (shares(P, tris[t], v)) continue;
+      out.push_back({ContactKind::PointTriangle, {v, tris[t][0], tris[t][1], tris[t][2]}, 0.0, P.self_friction});
+    }
+    for (const auto& [a, b] : numerics::box_pairs(eb, eb, true)) {
+      const Eigen::Vector2i &ea = P.edges[a], &e2 = P.edges[b];
+      const int a0 = rep(P, ea[0]), a1 = rep(P, ea[1]), b0 = rep(P, e2[0]), b1 = rep(P, e2[1]);
+      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+      out.push_back({ContactKind::EdgeEdge, {ea[0], ea[1], e2[0], e2[1]}, 0.0, P.self_friction});
+    }
+  }
+  if (O.empty()) return out;
+  // Obstacle primitives, inflated by their radius plus half of dhat.
+  std::vector<Box3> ob_t(O.tris.size()), ob_e(O.edges.size()), ob_p(O.num_points);
+  for (size_t t = 0; t < O.tris.size(); ++t) ob_t[t] = move_box(O.tris[t], 3, y0, y1, half);
+  for (size_t e = 0; e < O.edges.size(); ++e) ob_e[e] = move_box(O.edges[e], 2, y0, y1, half + O.edge_radius[e]);
+  std::vector<double> point_radius(O.num_points, 0.0);
+  for (size_t e = 0; e < O.edges.size(); ++e)
+    if (O.edge_radius[e] > 0) point_radius[O.edges[e][0]] = point_radius[O.edges[e][1]] = O.edge_radius[e];
+  for (int k = 0; k < O.num_points; ++k) ob_p[k] = move_box(std::array<int, 1>{k}, 1, y0, y1, half + point_radius[k]);
+  for (const auto& [t, v] : numerics::box_pairs(ob_t, vb)) {
+    const Eigen::Vector3i& T = O.tris[t];
+    out.push_back({ContactKind::PointTriangle, {v, -1 - T[0], -1 - T[1], -1 - T[2]}, 0.0, O.tri_friction[t]});
+  }
+  for (const auto& [t, k] : numerics::box_pairs(tb, ob_p))
+    out.push_back({ContactKind::PointTriangle, {-1 - k, tris[t][0], tris[t][1], tris[t][2]}, point_radius[k],
+                   O.point_friction[k]});
+  for (const auto& [e, f] : numerics::box_pairs(eb, ob_e)) {
+    const Eigen::Vector2i& E = O.edges[f];
+    out.push_back({ContactKind::EdgeEdge, {P.edges[e][0], P.edges[e][1], -1 - E[0], -1 - E[1]}, O.edge_radius[f],
+                   O.edge_friction[f]});
+  }
+  return out;
+}
+
+Vec12 pair_coordinates(const ContactPair& c, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  Vec12 q;
+  for (int k = 0; k < 4; ++k) q.segment<3>(3 * k) = slot_position(c.slot[k], x, y);
+  return q;
+}
+
+namespace {
+double pair_area(const Problem& P, const ContactPair& c) {
+  double A = 0;
+  int n = 0;
+  for (int s : c.slot)
+    if (s >= 0) A += P.vertex_area[s], ++n;
+  return n ? A / n : 0.0;
+}
+
+// Adds a 12 x 12 block matrix over the pair's slots to the triplets (lower triangle, free
+// vertices only), and a 12-gradient to grad.
+void scatter_pair(const ContactPair& c, const std::vector<int>& free_index, const Vec12* g, const Mat12* H,
+                  Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* trip) {
+  for (int k = 0; k < 4; ++k) {
+    const int vk = c.slot[k];
+    if (vk < 0) continue;
+    if (grad && g) grad->segment<3>(3 * vk) += g->segment<3>(3 * k);
+    if (!trip || !H) continue;
+    const int fk = free_index[vk];
+    if (fk < 0) continue;
+    for (int l = 0; l < 4; ++l) {
+      const int vl = c.slot[l];
+      if (vl < 0) continue;
+      const int fl = free_index[vl];
+      if (fl < 0 || fk < fl) continue;
+      for (int col = 0; col < 3; ++col)
+        for (int row = fk == fl ? col : 0; row < 3; ++row) {
+          const double h = (*H)(3 * k + row, 3 * l + col);
+          if (h != 0) trip->emplace_back(3 * fk + row, 3 * fl + col, h);
+        }
+    }
+  }
+}
+}  // namespace
+
+numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c) {
+  return {c.dmin, c.dmin + P.dhat, P.kappa * pair_area(P, c) * P.dhat};
+}
+
+double contact_energy(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& y, Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* trip) {
+  if (!has_contact(P)) return 0.0;
+  const std::vector<ContactPair> pairs = contact_candidates(P, x, x, y, y);
+  double E = 0;
+  for (const ContactPair& c : pairs) {
+    const Vec12 q = pair_coordinates(c, x, y);
+    Vec12 g;
+    Mat12 H;
+    const double e = numerics::contact_barrier_energy(c.kind, q, pair_barrier(P, c), grad ? &g : nullptr,
+                                                      trip ? &H : nullptr);
+    if (e == 0) continue;
+    if (!std::isfinite(e)) return std::numeric_limits<double>::infinity();
+    E += e;
+    if (trip) numerics::project_psd<12>(H);
+    scatter_pair(c, free_index, &g, trip ? &H : nullptr, grad, trip);
+  }
+  return E;
+}
+
+double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
+                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits) {
+  if (!has_contact(P)) return 1.0;
+  const Eigen::VectorXd x1 = x0 + dx, y1 = y0 + dy;
+  double t = 1.0;
+  for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1)) {
+    const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
+    if (q0 == q1) continue;
+    const numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, 0.1);
+    if (!(r.t < 1)) continue;
+    t = std::min(t, r.t);
+    if (!hits) continue;
+    ContactHit h;
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+      if (c.slot[k] < 0) h.carry += q1.segment<3>(3 * k) - q0.segment<3>(3 * k), ++n;
+    h.obstacle = n > 0;
+    if (n) h.carry /= n;
+    for (int s : c.slot)
+      if (s >= 0) {
+        h.vertex = s;
+        hits->push_back(h);
+      }
+  }
+  return t;
+}
+
+double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
+                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds) {
+  if (!has_contact(P)) return 1.0;
+  const Eigen::VectorXd dy = y1 - y0;
+  std::vector<char> state(P.mesh.num_vertices(), 0);  // 1 held at x0, 2 carried by an obstacle
+  for (int round = 0;; ++round) {
+    std::vector<ContactHit> hits;
+    const double t = contact_step_bound(P, x0, x1 - x0, y0, dy, &hits);
+    if (t >= 1 || round == rounds) return t;
+    bool changed = false;
+    for (const ContactHit& h : hits) {
+      const int v = h.vertex;
+      if (free_index[v] < 0 || state[v] == 2) continue;
+      const V3 to = h.obstacle ? V3(at(x0, v) + h.carry) : at(x0, v);
+      if (h.obstacle) state[v] = 2;
+      else if (state[v] == 1) continue;
+      else state[v] = 1;
+      if (to != at(x1, v)) {
+        x1.segment<3>(3 * v) = to;
+        changed = true;
+      }
+    }
+    if (!changed) return t;
+  }
+}
+
+std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::VectorXd& x_at, const Eigen::VectorXd& y_at,
+                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start) {
+  std::vector<PairFriction> out;
+  if (!has_contact(P)) return out;
+  for (const ContactPair& c : contact_candidates(P, x_at, x_at, y_at, y_at)) {
+    if (!(c.mu > 0)) continue;
+    const Vec12 q = pair_coordinates(c, x_at, y_at);
+    const double d = numerics::contact_distance(c.kind, q);
+    const numerics::BarrierParams bp = pair_barrier(P, c);
+    if (!(d < bp.dhat) || !(d > bp.dmin)) continue;
+    const double span = bp.dhat * bp.dhat - bp.dmin * bp.dmin;
+    double b1;
+    numerics::barrier((d * d - bp.dmin * bp.dmin) / span, &b1);
+    PairFriction f;
+    f.pair = c;
+    f.w = numerics::contact_weights(c.kind, q);
+    V3 r = V3::Zero();
+    for (int k = 0; k < 4; ++k) r += f.w[k] * q.segment<3>(3 * k);
+    if (!(r.norm() > 0)) continue;
+    f.T = tangent_basis(r / r.norm());
+    f.mu_lambda = c.mu * bp.kappa * std::abs(b1) * 2 * d / span;
+    f.q_start = pair_coordinates(c, x_start, y_start);
+    if (f.mu_lambda > 0) out.push_back(f);
+  }
+  return out;
+}
+
+double pair_friction_energy(const std::vector<PairFriction>& F, double eps, const std::vector<int>& free_index,
+                            const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad,
+                            std::vector<Eigen::Triplet<double>>* trip) {
+  double E = 0;
+  for (const PairFriction& f : F) {
+    const Vec12 q = pair_coordinates(f.pair, x, y);
+    V3 slip = V3::Zero();
+    for (int k = 0; k < 4; ++k) slip += f.w[k] * (q.segment<3>(3 * k) - f.q_start.segment<3>(3 * k));
+    const Eigen::Vector2d u = f.T.transpose() * slip;
+    const FrictionMollifier m = friction_mollifier(u.norm(), eps);
+    E += f.mu_lambda * m.f0;
+    if (!grad && !trip) continue;
+    Vec12 g;
+    Mat12 H;
+    const V3 gs = f.mu_lambda * m.f1_over_y * (f.T * u);
+    Eigen::Matrix2d Hu = m.f1_over_y * Eigen::Matrix2d::Identity() + m.uu_coeff * u * u.transpose();
+    numerics::project_psd<2>(Hu);
+    const Eigen::Matrix3d Hs = f.mu_lambda * f.T * Hu * f.T.transpose();
+    for (int k = 0; k < 4; ++k) {
+      g.segment<3>(3 * k) = f.w[k] * gs;
+      for (int l = 0; l < 4; ++l) H.block<3, 3>(3 * k, 3 * l) = f.w[k] * f.w[l] * Hs;
+    }
+    scatter_pair(f.pair, free_index, &g, &H, grad, trip);
+  }
+  return E;
+}
+
+bool contact_intersections(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y, std::string* what) {
+  const Mesh& m = P.mesh;
+  const int nt = m.num_triangles();
+  std::vector<Box3> tb(nt);
+  for (int t = 0; t < nt; ++t) tb[t] = move_box(Eigen::Vector3i(m.tris.row(t).transpose()), 3, x, x, 0.0);
+  auto tri = [&](int t, int i) { return at(x, m.tris(t, i)); };
+  for (const auto& [a, b] : numerics::box_pairs(tb, tb, true)) {
+    bool adjacent = false;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) adjacent = adjacent || rep(P, m.tris(a, i)) == rep(P, m.tris(b, j));
+    if (adjacent) continue;
+    if (numerics::triangles_intersect(tri(a, 0), tri(a, 1), tri(a, 2), tri(b, 0), tri(b, 1), tri(b, 2))) {
+      if (what) *what = "cloth triangles " + std::to_string(a) + " and " + std::to_string(b) + " intersect";
+      return true;
+    }
+  }
+  const ObstacleSet& O = P.obstacles;
+  if (O.empty()) return false;
+  std::vector<Box3> ot(O.tris.size());
+  for (size_t t = 0; t < O.tris.size(); ++t) ot[t] = move_box(O.tris[t], 3, y, y, 0.0);
+  for (const auto& [o, t] : numerics::box_pairs(ot, tb)) {
+    const Eigen::Vector3i& T = O.tris[o];
+    if (numerics::triangles_intersect(at(y, T[0]), at(y, T[1]), at(y, T[2]), tri(t, 0), tri(t, 1), tri(t, 2))) {
+      if (what) *what = "cloth triangle " + std::to_string(t) + " meets obstacle triangle " + std::to_string(o);
+      return true;
+    }
+  }
+  std::vector<Box3> oe;
+  std::vector<int> caps;
+  for (size_t e = 0; e < O.edges.size(); ++e)
+    if (O.edge_radius[e] > 0) {
+      oe.push_back(move_box(O.edges[e], 2, y, y, O.edge_radius[e]));
+      caps.push_back(int(e));
+    }
+  for (const auto& [k, t] : numerics::box_pairs(oe, tb)) {
+    const int e = caps[k];
+    const V3 a = at(y, O.edges[e][0]), b = at(y, O.edges[e][1]);
+    const double r = O.edge_radius[e];
+    // Segment-triangle distance: 0 when the axis crosses the triangle, else the closest of
+    // its ends to the triangle and of the triangle's edges to it.
+    bool in = numerics::segment_triangle_intersect(a, b, tri(t, 0), tri(t, 1), tri(t, 2));
+    in = in || numerics::point_triangle_distance(a, tri(t, 0), tri(t, 1), tri(t, 2)) <= r ||
+         numerics::point_triangle_distance(b, tri(t, 0), tri(t, 1), tri(t, 2)) <= r;
+    for (int i = 0; i < 3 && !in; ++i) in = numerics::segment_distance(tri(t, i), tri(t, (i + 1) % 3), a, b) <= r;
+    if (in) {
+      if (what) *what = "cloth triangle " + std::to_string(t) + " is within the radius of capsule edge " + std::to_string(e);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace yarnhom::sim

@@ -1,0 +1,115 @@
+#pragma once
+// Surface contact of the cloth with itself and with the obstacles of sim/obstacles.hpp
+// (capsules, triangle meshes): IPC (Li et al. 2020) on point-triangle and edge-edge pairs, with
+// the numerics of numerics/contact_distance.hpp and numerics/contact_pairs.hpp.
+//
+// Pairs (a pair's four slots are cloth vertices, >= 0, or obstacle points, -1 - k):
+//   self:      cloth vertex - cloth triangle, cloth edge - cloth edge, sharing no vertex;
+//   meshes:    cloth vertex - obstacle triangle, obstacle vertex - cloth triangle, cloth edge -
+//              obstacle edge;
+//   capsules:  cloth edge - capsule axis, capsule end - cloth triangle, at d_min = the radius
+//              (the closest points of a triangle and a segment are one of those features).
+// Energy of a pair: kappa_J b(z), z = (D - d_min^2) / ((d_min + dhat)^2 - d_min^2), D the squared
+// distance, b IPC's log barrier, kappa_J = kappa A dhat with kappa the colliders' barrier
+// stiffness (Pa) and A the mean lumped area of the pair's cloth vertices: the colliders' scale.
+// Its 12 x 12 Hessian is projected onto the PSD cone before assembly; the couplings between
+// vertices that the mesh does not connect come back as triplets (the Newton matrix's pattern
+// then grows by them: sim/newton.cpp).
+//
+// Candidates come from a spatial hash over boxes (numerics/contact_pairs.hpp: box_pairs) inflated
+// so that two boxes overlap whenever their primitives may be within d_min + dhat: every energy
+// evaluation finds its own pairs at its own positions (no list carried between evaluations, so
+// no pair is missed), every CCD its pairs over the swept boxes of its move.
+//
+// Friction between cloth layers and with obstacles: IPC's lagged friction (sim/friction.hpp's
+// mollifier) on the pair's relative tangential slip u = T^T sum_k w_k (q_k - q_k^start), w the
+// closest points' weights (numerics: contact_weights), T a basis of the plane normal to the
+// closest points' difference, lambda the barrier's normal force, all at the step's start.
+#include <Eigen/Sparse>
+#include <array>
+#include <vector>
+
+#include "numerics/barrier.hpp"
+#include "numerics/contact_distance.hpp"
+#include "sim/problem.hpp"
+
+namespace yarnhom::sim {
+
+struct ContactPair {
+  numerics::ContactKind kind = numerics::ContactKind::PointTriangle;
+  std::array<int, 4> slot{};  // cloth vertex >= 0; obstacle point k as -1 - k
+  double dmin = 0;            // m: capsule radius, else 0
+  double mu = 0;              // friction coefficient of the pair
+};
+
+// Unique cloth edges (a < b).
+std::vector<Eigen::Vector2i> cloth_edges(const Mesh& mesh);
+
+// True when P has anything for contact pairs (self-collision on, or obstacles).
+bool has_contact(const Problem& P);
+
+// Candidate pairs over the move x0 -> x1 (cloth, 3n) and y0 -> y1 (obstacles, 3K); x1 = x0 and
+// y1 = y0 for a static search.
+std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& y1);
+
+// A pair's 12 coordinates.
+numerics::Vec12 pair_coordinates(const ContactPair& c, const Eigen::VectorXd& x, const Eigen::VectorXd& y);
+
+// The pair's barrier parameters (d_min, d_min + dhat, kappa_J).
+numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c);
+
+// The barrier energy of every pair at (x, y). grad (3n): gradient added at cloth vertices.
+// triplets: the projected Hessian's lower triangle over free unknowns (3 per free vertex, the
+// free_index of the DofMap). Returns +inf when a pair is at or below d_min.
+double contact_energy(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x,
+                      const Eigen::VectorXd& y, Eigen::VectorXd* grad = nullptr,
+                      std::vector<Eigen::Triplet<double>>* triplets = nullptr);
+
+// The largest fraction of the move (x0 -> x0 + t dx, y0 -> y0 + t dy) on which no pair comes closer
+// than d_min + eta (d(0) - d_min) (numerics: contact_ccd); 1 when the whole move is safe.
+// hits (optional): the cloth vertices of the pairs that limit it (t < 1), with, for a pair with
+// an obstacle, the mean displacement of its obstacle points over the move.
+struct ContactHit {
+  int vertex = 0;
+  bool obstacle = false;
+  Eigen::Vector3d carry = Eigen::Vector3d::Zero();
+};
+double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
+                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits = nullptr);
+
+// Makes the move (x0 -> x1, y0 -> y1) safe for contact where it can, by changing x1: a cloth
+// vertex of a limiting pair with an obstacle is carried by the obstacle's displacement (it moves
+// with the obstacle instead of being passed through), one of a limiting self pair stays at x0;
+// prescribed vertices (free_index < 0) keep their move. Repeats while that changes something
+// (at most `rounds` times). Returns the safe fraction of the final move (1: all of it).
+double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
+                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds = 6);
+
+// Lagged friction of one pair.
+struct PairFriction {
+  ContactPair pair;
+  Eigen::Vector4d w = Eigen::Vector4d::Zero();
+  Eigen::Matrix<double, 3, 2> T = Eigen::Matrix<double, 3, 2>::Zero();
+  double mu_lambda = 0;
+  numerics::Vec12 q_start = numerics::Vec12::Zero();
+};
+
+// Pairs with mu > 0 within their activation distance at (x_at, y_at); slip measured from
+// (x_start, y_start).
+std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::VectorXd& x_at, const Eigen::VectorXd& y_at,
+                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start);
+
+// The friction potential of the lagged pairs at (x, y), with gradient and Hessian triplets as
+// contact_energy.
+double pair_friction_energy(const std::vector<PairFriction>& F, double eps, const std::vector<int>& free_index,
+                            const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad = nullptr,
+                            std::vector<Eigen::Triplet<double>>* triplets = nullptr);
+
+// True when some non-adjacent cloth triangles intersect, or a cloth triangle meets an obstacle
+// (a mesh triangle, or comes within a capsule's radius of its axis): the exact check of
+// numerics::triangles_intersect. what (optional): the first offending pair in words.
+bool contact_intersections(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y,
+                           std::string* what = nullptr);
+
+}  // namespace yarnhom::sim
