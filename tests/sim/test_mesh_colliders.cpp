@@ -1,0 +1,129 @@
+// Mesh colliders from OBJ files (sim/obstacles.hpp) through scene files: a sheet falls onto a
+// static triangle plate and rests on it, a plate moving up frame by frame lifts a sheet, each
+// checked every frame with the exact intersection test; frames that do not match, and scene
+// keys that do not exist, are refused naming the file and the key.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sim/contact.hpp"
+#include "sim/scene_json.hpp"
+#include "sim/simulation.hpp"
+#include "tests/common/poly_material.hpp"
+
+using namespace yarnhom;
+using namespace yarnhom::sim;
+namespace fs = std::filesystem;
+
+namespace {
+
+const MaterialFn& material() {
+  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
+  return m;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("yarnhom_meshcol_" + std::to_string(::getpid()) + "_" + name);
+  fs::create_directories(d);
+  return d;
+}
+
+// A square plate of half-size s at height z, split in 4 triangles around its centre.
+void write_plate(const fs::path& p, double s, double z) {
+  std::ofstream f(p);
+  f << "v " << -s << " " << -s << " " << z << "\nv " << s << " " << -s << " " << z << "\nv " << s << " " << s << " " << z
+    << "\nv " << -s << " " << s << " " << z << "\nv 0 0 " << z << "\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+}
+
+void write_text(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
+
+// A 0.2 m sheet (8 x 8 quads) centred at the origin, 2 cm above z = 0, falling on `colliders`.
+std::string sheet_scene(const std::string& colliders, int frames) {
+  return R"({"mesh": {"rectangle": {"width": 0.2, "height": 0.2, "nx": 8, "ny": 8}},
+             "position": {"translate": [-0.1, -0.1, 0.02]}, "areal_density": 0.2, "friction": 0.3,
+             "frames": )" + std::to_string(frames) + R"(, "colliders": [)" + colliders + "]}";
+}
+
+Problem check_problem(const Scene& s) {
+  Problem P = make_problem(s.mesh, material(), 0.2);
+  P.obstacles = s.obstacles;
+  finish_obstacles(P.obstacles);
+  P.self_collision = true;
+  P.edges = cloth_edges(P.mesh);
+  return P;
+}
+
+}  // namespace
+
+TEST(MeshColliders, SheetRestsOnAStaticPlateWithoutIntersecting) {
+  const fs::path d = scratch("static");
+  write_plate(d / "plate.obj", 0.06, 0.0);
+  write_text(d / "scene.json", sheet_scene(R"({"mesh": {"obj": "plate.obj"}})", 20));
+  const Scene s = read_scene_json((d / "scene.json").string());
+  ASSERT_EQ(s.obstacles.meshes.size(), 1u);
+  const Problem P = check_problem(s);
+  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+    std::string what;
+    EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
+  });
+  ASSERT_TRUE(r.finite);
+  // The centre vertex lies on the plate, within the barrier's reach above it; the free corners
+  // hang below it.
+  const int centre = 4 * 9 + 4;
+  EXPECT_GT(r.x[3 * centre + 2], 0.0);
+  EXPECT_LT(r.x[3 * centre + 2], s.dhat);
+  EXPECT_LT(r.x[2], -0.01);
+  fs::remove_all(d);
+}
+
+TEST(MeshColliders, PlateMovingUpFrameByFrameLiftsTheSheet) {
+  // Frames 1/30 s apart: the plate rises 3 cm per frame from 1 cm below the sheet.
+  const fs::path d = scratch("moving");
+  std::string frames;
+  for (int k = 0; k < 8; ++k) {
+    write_plate(d / ("p" + std::to_string(k) + ".obj"), 0.06, 0.01 + 0.03 * k);
+    frames += std::string(k ? ", " : "") + "\"p" + std::to_string(k) + ".obj\"";
+  }
+  write_text(d / "scene.json", sheet_scene(R"({"mesh": {"frames": [)" + frames + "]}}", 10));
+  Scene s = read_scene_json((d / "scene.json").string());
+  s.gravity.setZero();  // the sheet floats until the plate takes it
+  for (int v = 0; v < s.mesh.num_vertices(); ++v) s.mesh.x(v, 2) = 0.02;
+  const Problem P = check_problem(s);
+  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+    std::string what;
+    EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
+    // Over the plate's middle the sheet is never below it.
+    EXPECT_GT(R.x[3 * (4 * 9 + 4) + 2], R.obstacles[3 * 4 + 2]) << "frame " << frame;
+  });
+  ASSERT_TRUE(r.finite);
+  EXPECT_NEAR(r.obstacles[3 * 4 + 2], 0.01 + 0.03 * 7, 1e-9);  // the plate reached its last frame
+  EXPECT_GT(r.x[3 * (4 * 9 + 4) + 2], 0.2);                  // and carried the sheet up
+  fs::remove_all(d);
+}
+
+TEST(MeshColliders, MismatchedFramesAndUnknownKeysAreRefusedByName) {
+  const fs::path d = scratch("bad");
+  write_plate(d / "a.obj", 0.06, 0.0);
+  write_text(d / "b.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  write_text(d / "s1.json", sheet_scene(R"({"mesh": {"frames": ["a.obj", "b.obj"]}})", 1));
+  try {
+    read_scene_json((d / "s1.json").string());
+    FAIL() << "accepted frames with different vertex counts";
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("b.obj"), std::string::npos) << m;
+    EXPECT_NE(m.find("colliders[0].mesh"), std::string::npos) << m;
+  }
+  write_text(d / "s2.json", sheet_scene(R"({"capsule": {"a": [0, 0, 0], "b": [1, 0, 0], "radiu": 0.01}})", 1));
+  try {
+    read_scene_json((d / "s2.json").string());
+    FAIL() << "accepted an unknown key";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("radiu"), std::string::npos) << e.what();
+  }
+  write_text(d / "s3.json", sheet_scene(R"({"mesh": {"obj": "missing.obj"}})", 1));
+  EXPECT_THROW(read_scene_json((d / "s3.json").string()), std::exception);
+  fs::remove_all(d);
+}
