@@ -266,10 +266,16 @@ class Coordinator {
   std::vector<BranchMove> branch_round(int round, const std::vector<int>& targets, const std::vector<double>& best,
                                        const std::vector<std::vector<int>>& from) {
     std::vector<BranchMove> moves(targets.size());
+    // The targets with the most sources (one solve each) first, so that the round does not wait
+    // on a long one handed out last; each result lands at its own index, so the order of the
+    // solves changes nothing in the data.
+    std::vector<size_t> order(targets.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return from[a].size() > from[b].size(); });
     size_t next = 0;
     int finished = 0, moved = 0;
     auto send_target = [&](int w) {
-      const size_t k = next++;
+      const size_t k = order[next++];
       Pack p(kTarget);
       p.put(uint64_t(k)).put(int32_t(targets[k])).put(best[k]);
       std::vector<std::string> records;

@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -43,23 +42,12 @@ void sensitivities(const RveProblem& rve, const Strain& s, const RveState& st, c
   }
 }
 
-// The largest RVE factored densely (numerics/hessian_factor.hpp); YARNHOM_RVE_DENSE_LIMIT
-// overrides it (a measurement knob: a 2 x 2 patch has 4x one tile's unknowns, 64x the dense
-// factorization's work, while contact couples only neighbouring tiles' segments).
-int rve_dense_limit() {
-  static const int limit = [] {
-    const char* v = std::getenv("YARNHOM_RVE_DENSE_LIMIT");
-    return v ? std::atoi(v) : HessianFactor::kDenseLimit;
-  }();
-  return limit;
-}
-
 // One solve (docs/rve.md section 5, newton.hpp): the start, then Newton iterations, each a
 // shifted factorization (numerics/newton.hpp), the collision filter and a line search.
 class RveNewton {
  public:
   RveNewton(const RveProblem& rve, const Strain& s, RveState& st, const SolveOptions& opt)
-      : rve_(rve), s_(s), st_(st), opt_(opt), g_(rve.num_dofs()), d_(rve.num_dofs()), H_(rve.num_dofs(), rve_dense_limit()),
+      : rve_(rve), s_(s), st_(st), opt_(opt), g_(rve.num_dofs()), d_(rve.num_dofs()), H_(rve.num_dofs()),
         dmin_(rve.min_separation()), reach_(2.0 * rve.radius()) {
     // The recorded path is moved out while solving, so that the line search's copies of the
     // state stay cheap.
@@ -261,7 +249,7 @@ std::vector<Eigen::VectorXd> equilibrium_sensitivity(const RveProblem& rve, cons
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd g;
   rve.evaluate(s, st, &g, &trip);
-  HessianFactor H(rve.num_dofs(), rve_dense_limit());
+  HessianFactor H(rve.num_dofs());
   H.assemble(trip);
   SolveReport rep;
   if (H.factor(0.0)) sensitivities(rve, s, st, g, directions, H, rep);
