@@ -184,6 +184,7 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
 double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
                           const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits) {
   if (!has_contact(P)) return 1.0;
+  if (!(dx.cwiseAbs().maxCoeff() > 0) && !(dy.size() && dy.cwiseAbs().maxCoeff() > 0)) return 1.0;  // no move
   const Eigen::VectorXd x1 = x0 + dx, y1 = y0 + dy;
   double t = 1.0;
   for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1)) {

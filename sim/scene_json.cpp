@@ -263,6 +263,27 @@ void read_contact(const Reader& r, const json& j, Scene& s) {
   }
 }
 
+// "seams": {"stitches": [[a, b], ...], "stiffness": N/m, "sew_time": s, "gravity_delay": s}.
+void read_seams(const Reader& r, const json& j, Scene& s) {
+  if (!j.contains("seams")) return;
+  const json& sm = j["seams"];
+  r.only(sm, "seams", {"stitches", "stiffness", "sew_time", "gravity_delay"});
+  if (!sm.contains("stitches") || !sm["stitches"].is_array() || sm["stitches"].empty())
+    r.fail("seams.stitches", "must be a non-empty array of [a, b] vertex pairs");
+  for (const json& p : sm["stitches"]) {
+    if (!p.is_array() || p.size() != 2) r.fail("seams.stitches", "each stitch must be [a, b] (two vertex indices)");
+    const int a = r.integer(p[0], "seams.stitches", 0), b = r.integer(p[1], "seams.stitches", 0);
+    for (int v : {a, b})
+      if (v >= s.mesh.num_vertices())
+        r.fail("seams.stitches", "vertex " + std::to_string(v) + " out of range (" + std::to_string(s.mesh.num_vertices()) + " vertices)");
+    if (a == b) r.fail("seams.stitches", "a stitch joins two different vertices");
+    s.stitches.push_back({a, b, Eigen::Vector3d::Zero()});
+  }
+  s.stitch_stiffness = sm.contains("stiffness") ? r.positive(sm["stiffness"], "seams.stiffness") : 50.0;
+  if (sm.contains("sew_time")) s.sew_time = r.positive(sm["sew_time"], "seams.sew_time");
+  if (sm.contains("gravity_delay")) s.gravity_delay = r.positive(sm["gravity_delay"], "seams.gravity_delay");
+}
+
 // "damping", "integrator", "dt", "substeps", "frames", "newton".
 void read_time_stepping(const Reader& r, const json& j, Scene& s) {
   if (j.contains("damping")) {
@@ -330,7 +351,7 @@ Scene read_scene_json(const std::string& file) {
   const json j = io::read_json_file(file);
   const Reader r{{file}};
   r.only(j, "", {"name", "mesh", "position", "material", "areal_density", "gravity", "pins", "handles", "colliders",
-                 "self_collision", "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
+                 "self_collision", "seams", "barrier", "friction", "damping", "integrator", "dt", "substeps", "frames", "newton", "render", "stretch_report"});
   Scene s;
   s.name = std::filesystem::path(file).stem().string();
   if (j.contains("name")) {
@@ -343,6 +364,7 @@ Scene read_scene_json(const std::string& file) {
   if (j.contains("gravity")) s.gravity = r.vec3(j["gravity"], "gravity");
   read_handles(r, j, s);
   read_contact(r, j, s);
+  read_seams(r, j, s);
   read_time_stepping(r, j, s);
   if (j.contains("render")) {
     if (!j["render"].is_array()) r.fail("render", "must be an array of frame numbers");

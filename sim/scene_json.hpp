@@ -12,6 +12,7 @@
 //                   {"mesh": {"obj": "body.obj" | "frames": ["f0.obj", ...], "frame_dt": 0.0333,
 //                             "scale": 1, "translate": [x, y, z]}}],          (sim/obstacles.hpp)
 //     "self_collision": true | false | {"enabled": true, "friction": 0.2},   (default on; friction: the global one)
+//     "seams": {"stitches": [[a, b], ...], "stiffness": 50, "sew_time": 0.5, "gravity_delay": 0},  (sim/garment.hpp)
 //     "barrier": {"dhat": 1e-3, "kappa": 100},
 //     "friction": 0.3 | {"mu": 0.3, "eps_v": 7e-4, "updates": 0},      (colliders without their own)
 //     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},

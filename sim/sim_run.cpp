@@ -47,9 +47,27 @@ void write_scene_info(const std::string& dir, const Scene& s) {
   std::ofstream((fs::path(dir) / "scene_info.json").string()) << j.dump(1) << "\n";
 }
 
-// "mu 0.3" when every collider has the same coefficient, else the list; "none" without colliders.
+// "mu 0.3" when every collider has the same coefficient, else the list; "none" without colliders;
+// then the capsules, meshes and self-collision (sim/contact.hpp).
+std::string contact_description(const Scene& s) {
+  const bool bw = s.integrator == Integrator::BaraffWitkin;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; self-collision %s", bw || !s.self_collision ? "off" : "on");
+  std::string out = buf;
+  if (s.self_collision && !bw) {
+    std::snprintf(buf, sizeof buf, " (mu %g, dhat %g m)", std::max(0.0, s.self_friction), s.dhat);
+    out += buf;
+  }
+  if (!s.obstacles.empty()) {
+    std::snprintf(buf, sizeof buf, "; %zu capsule(s), %zu mesh collider(s)", s.obstacles.capsules.size(),
+                  s.obstacles.meshes.size());
+    out += buf;
+  }
+  return out;
+}
+
 std::string friction_description(const Scene& s) {
-  if (s.colliders.empty()) return "none (no collider)";
+  if (s.colliders.empty()) return "none (no collider)" + contact_description(s);
   std::string out;
   bool same = true;
   for (const Collider& c : s.colliders) same = same && c.friction == s.colliders[0].friction;
@@ -59,7 +77,7 @@ std::string friction_description(const Scene& s) {
     out += buf;
   }
   if (s.integrator == Integrator::BaraffWitkin && out != "mu 0") out += " (not applied by the Baraff-Witkin integrator)";
-  return out;
+  return out + contact_description(s);
 }
 
 // The built-in stretch scene's --size, --stretch and --clamp.

@@ -1,14 +1,18 @@
 // Mesh colliders from OBJ files (sim/obstacles.hpp) through scene files: a sheet falls onto a
 // static triangle plate and rests on it, a plate moving up frame by frame lifts a sheet, each
 // checked every frame with the exact intersection test; frames that do not match, and scene
-// keys that do not exist, are refused naming the file and the key.
+// keys that do not exist, are refused naming the file and the key; seams from a scene file close
+// a tube.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "sim/contact.hpp"
+#include "sim/garment.hpp"
 #include "sim/scene_json.hpp"
 #include "sim/simulation.hpp"
 #include "tests/common/poly_material.hpp"
@@ -125,5 +129,51 @@ TEST(MeshColliders, MismatchedFramesAndUnknownKeysAreRefusedByName) {
   }
   write_text(d / "s3.json", sheet_scene(R"({"mesh": {"obj": "missing.obj"}})", 1));
   EXPECT_THROW(read_scene_json((d / "s3.json").string()), std::exception);
+  fs::remove_all(d);
+}
+
+TEST(MeshColliders, SeamsFromASceneFileCloseATube) {
+  // An OBJ sheet bent 300 degrees around z (rest: vt in metres), its two free edges stitched
+  // by the scene file's "seams": they close within the sewing time without intersecting.
+  const fs::path d = scratch("seams");
+  const int N = 12, M = 3;
+  const double W = 0.24, dz = 0.03, span = 300.0 * M_PI / 180, R = W / span;
+  std::ostringstream obj;
+  for (int j = 0; j <= M; ++j)
+    for (int i = 0; i <= N; ++i) {
+      const double th = span * i / N;
+      obj << "v " << R * std::cos(th) << " " << R * std::sin(th) << " " << dz * j << "\n";
+      obj << "vt " << W * i / N << " " << dz * j << "\n";
+    }
+  auto id = [&](int i, int j) { return j * (N + 1) + i + 1; };
+  for (int j = 0; j < M; ++j)
+    for (int i = 0; i < N; ++i)
+      obj << "f " << id(i, j) << "/" << id(i, j) << " " << id(i + 1, j) << "/" << id(i + 1, j) << " " << id(i + 1, j + 1)
+          << "/" << id(i + 1, j + 1) << "\nf " << id(i, j) << "/" << id(i, j) << " " << id(i + 1, j + 1) << "/"
+          << id(i + 1, j + 1) << " " << id(i, j + 1) << "/" << id(i, j + 1) << "\n";
+  write_text(d / "sheet.obj", obj.str());
+  std::string stitches;
+  for (int j = 0; j <= M; ++j)
+    stitches += std::string(j ? ", " : "") + "[" + std::to_string(id(0, j) - 1) + ", " + std::to_string(id(N, j) - 1) + "]";
+  write_text(d / "scene.json", R"({"mesh": {"obj": "sheet.obj"}, "areal_density": 0.2, "gravity": [0, 0, 0],
+    "frames": 10, "seams": {"stitches": [)" + stitches + R"(], "stiffness": 20, "sew_time": 0.2}})");
+  const Scene s = read_scene_json((d / "scene.json").string());
+  ASSERT_EQ(s.stitches.size(), size_t(M + 1));
+  Problem P = check_problem(s);
+  P.vertex_rep = stitch_representatives(P.mesh.num_vertices(), s.stitches);
+  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& Rs) {
+    std::string what;
+    EXPECT_FALSE(contact_intersections(P, Rs.x, Rs.obstacles, &what)) << "frame " << frame << ": " << what;
+  });
+  ASSERT_TRUE(r.finite);
+  for (const Stitch& st : s.stitches) EXPECT_LT((r.x.segment<3>(3 * st.a) - r.x.segment<3>(3 * st.b)).norm(), 2e-3);
+  // A vertex out of range is refused, naming the key.
+  write_text(d / "bad.json", R"({"mesh": {"obj": "sheet.obj"}, "seams": {"stitches": [[0, 999]]}})");
+  try {
+    read_scene_json((d / "bad.json").string());
+    FAIL() << "accepted a stitch to a missing vertex";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("seams.stitches"), std::string::npos) << e.what();
+  }
   fs::remove_all(d);
 }
