@@ -33,6 +33,15 @@ Profile profile(const std::vector<int>& s) {
 // (k = 0: a cosine; k = 1/6: flat over the middle half of each half period).
 double shape(double phi, double k) { return (std::cos(phi) - k * std::cos(3 * phi)) / (1 - k); }
 
+// The profile of a yarn whose side mean is m: one that mostly passes under (m < 0) rises to a
+// peak narrowed by the power p >= 1, 2 u^p - 1 with u = (1 + cos phi) / 2, and lies lower and
+// flatter elsewhere; one mostly over (m > 0) dips the same way; p = 1 (or m = 0): shape() above.
+double profile_shape(double phi, double k, double p, double m) {
+  if (p == 1 || m == 0) return shape(phi, k);
+  const double u = 0.5 * (1 + std::cos(phi));
+  return m < 0 ? 2 * std::pow(u, p) - 1 : 1 - 2 * std::pow(1 - u, p);
+}
+
 }  // namespace
 
 Pattern generate_weave(const WeaveParams& prm) {
@@ -43,6 +52,7 @@ Pattern generate_weave(const WeaveParams& prm) {
   for (const auto& row : prm.weave)
     if (static_cast<int>(row.size()) != nj || row.find_first_not_of("01") != std::string::npos)
       throw std::invalid_argument("weave: rows of equal length made of '0' and '1'");
+  if (!(prm.peak >= 1)) throw std::invalid_argument("weave: peak must be at least 1");
   if (!(prm.radius > 0 && prm.px > 0 && prm.py > 0)) throw std::invalid_argument("weave: radius and periods must be positive");
   if (prm.px / nj < 2 * prm.radius || prm.py / nw < 2 * prm.radius)
     throw std::invalid_argument("weave: parallel yarns closer than a diameter");
@@ -62,7 +72,7 @@ Pattern generate_weave(const WeaveParams& prm) {
     add_yarn(pat, sample_equal_arc([&](double t) {
                const double x = -prm.px / 2 + t * prm.px;
                return Eigen::Vector3d(x, y, prm.float_lift * pr.mean +
-                                                prm.weft_amplitude * shape(2 * M_PI * (x - x0) / prm.px + pr.phase, prm.flatness));
+                                                prm.weft_amplitude * profile_shape(2 * M_PI * (x - x0) / prm.px + pr.phase, prm.flatness, prm.peak, pr.mean));
              }, nsx), {1, 0});
   }
   for (int j = 0; j < nj; ++j) {  // warps along y: over weft i where weave[i][j] == '0'
@@ -73,7 +83,7 @@ Pattern generate_weave(const WeaveParams& prm) {
     add_yarn(pat, sample_equal_arc([&](double t) {
                const double y = -prm.py / 2 + t * prm.py;
                return Eigen::Vector3d(x, y, prm.float_lift * pr.mean +
-                                                prm.warp_amplitude * shape(2 * M_PI * (y - y0) / prm.py + pr.phase, prm.flatness));
+                                                prm.warp_amplitude * profile_shape(2 * M_PI * (y - y0) / prm.py + pr.phase, prm.flatness, prm.peak, pr.mean));
              }, nsy), {0, 1});
   }
   set_rest_to_shape(pat);

@@ -52,14 +52,41 @@ struct WeaveParams {
   double weft_amplitude = 0, warp_amplitude = 0;  // m
   double float_lift = 0;            // m
   double flatness = 0;              // k in [0, 1/6]: the profile (cos - k cos 3) / (1 - k), flat-topped floats
+  double peak = 1;                  // p >= 1: a yarn mostly under (over) the others rises (dips) to its
+                                    // interlacings as 2 ((1 + cos) / 2)^p - 1 (mirrored), flatter elsewhere
   int samples_weft = 0, samples_warp = 0;  // vertices per yarn; 0: about one per 1.2 radii
 };
 Pattern generate_weave(const WeaveParams& p);
 
+// A weft knit from its stitch chart: courses bottom to top (one yarn each, along +x), one
+// character per wale: 'K' knit, 'P' purl (as seen from +z), 'S' slipped (the yarn floats across
+// the wale at z = float_depth; the loop below is held up to the next course that works the
+// wale). Each loop is generate_stockinette's shape in its wale (w = px / wales) and course
+// (h = py / courses): legs at +depth (knit) or -depth (purl), the head at head_depth on the
+// side away from the legs of the stitch that catches it, the sinkers sinker_gap behind (knit) or
+// in front of (purl) the legs of the loop the stitch is pulled through. The rest state is the
+// generated shape (set_rest_to_shape). gen_knit.cpp.
+struct KnitParams {
+  std::string name = "knit";
+  double radius = 1e-3;             // m
+  double px = 0, py = 0;            // tile periods (m)
+  std::vector<std::string> chart;   // courses of 'K', 'P', 'S', bottom first
+  double loop_height = 0;           // b (m): the loop spans y_k -+ b
+  double depth = 0;                 // c (m): the legs at +-c
+  double head_depth = 0;            // m: the heads at +-head_depth (0: depth)
+  double bulb = 1.0;                // a: how far the head overhangs the legs
+  double waist = 0;                 // m, as in StockinetteParams
+  double float_depth = 0;           // m: z of a float (+: the +z face)
+  double float_lift = 0;            // m: a float's rise above the sinkers at mid-wale
+  double sinker_gap = 0;            // m: sinkers from the legs they pass (0: 2 depths)
+  double edge = 1e-3;               // m: about the edge length of the sampled yarn
+};
+Pattern generate_knit(const KnitParams& p);
+
 // The built-in patterns: "plain" (the tiny 0.1 mm plain weave above, straight yarn at rest) and
 // the paper's patterns generated at the paper's scale (1 mm yarn radius, the periods of the
-// published tiles; the rest state the generated shape): "basket", "satin", "stockinette", and
-// the knits that builtin_pattern_names lists.
+// published tiles; the rest state the generated shape): "basket", "satin",
+// "slip_stitch_honeycomb" and "stockinette".
 std::vector<std::string> builtin_pattern_names();
 bool is_builtin_pattern(const std::string& name);
 Pattern builtin_pattern(const std::string& name);  // throws std::invalid_argument, naming them

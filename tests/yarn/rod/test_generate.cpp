@@ -113,3 +113,48 @@ TEST(Generate, ShearIsSymmetricForMirrorSymmetricPatterns) {
     }
   }
 }
+
+TEST(Generate, PeakedWeaveProfileRisesOnlyToTheInterlacing) {
+  // Weft 0 of a five-harness satin passes over warp 0 only: with peak = 2 it lies lower at the
+  // crossings beside the interlacing than a cosine does (2 u^2 - 1 = -0.14 against cos 72 deg =
+  // +0.31 amplitudes), and rises to the same height over warp 0.
+  auto weft0 = [](double peak) {
+    WeaveParams p;
+    p.radius = 1e-3;
+    p.px = p.py = 11e-3;
+    for (int i = 0; i < 5; ++i) {
+      std::string row(5, '0');
+      row[(3 * i) % 5] = '1';
+      p.weave.push_back(row);
+    }
+    p.weft_amplitude = p.warp_amplitude = 1.8e-3;
+    p.peak = peak;
+    p.samples_weft = 200;
+    const Pattern pat = generate_weave(p);
+    const Topology t = topology(pat);
+    const auto& y = t.yarns[0];
+    std::vector<double> z;
+    for (int k = 0; k < 5; ++k) {  // z over warp k, interpolated between the vertices around it
+      const double xk = -p.px / 2 + (k + 0.5) * p.px / 5;
+      for (size_t i = 0; i + 1 < y.size(); ++i) {
+        const Eigen::Vector3d a = pat.x[y[i]], b = pat.x[y[i + 1]];
+        if (a[0] <= xk && xk < b[0]) z.push_back((a[2] + (b[2] - a[2]) * (xk - a[0]) / (b[0] - a[0])) / p.radius);
+      }
+    }
+    return z;
+  };
+  const auto cosine = weft0(1), peaked = weft0(2);
+  ASSERT_EQ(cosine.size(), 5u);
+  ASSERT_EQ(peaked.size(), 5u);
+  EXPECT_NEAR(cosine[0], 1.8, 0.01);
+  EXPECT_NEAR(peaked[0], 1.8, 0.01);
+  for (int k : {1, 4}) {
+    EXPECT_NEAR(cosine[k], 1.8 * std::cos(2 * M_PI / 5), 0.01);
+    EXPECT_NEAR(peaked[k], 1.8 * (2 * std::pow(0.5 * (1 + std::cos(2 * M_PI / 5)), 2) - 1), 0.01);
+  }
+  WeaveParams bad;
+  bad.peak = 0.5;
+  bad.weave = {"10", "01"};
+  bad.px = bad.py = 8e-3;
+  EXPECT_THROW(generate_weave(bad), std::invalid_argument);
+}

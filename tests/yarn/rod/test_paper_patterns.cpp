@@ -5,10 +5,11 @@
 // stockinette is one loop of the published 2 x 2-loop tile and is compared tiled 2 x 2.
 // Measured (generated against published): stockinette yarn 101.9 / 105.1 mm, Psi0 0.404 / 0.412;
 // basket 102.5 / 101.2 mm, Psi0 5.96e-5 / 5.78e-5 (both nearly stress free: the contacts just
-// touch); satin 142.9 / 136.8 mm, Psi0 0.033 / 0.0117 J/m^2: its rest energy does NOT match yet
-// (straight yarns in plane, where the published satin's wander by +-0.25 r; its crossings are
-// sloped and the relaxation presses them) and is held only to a factor 3, so that a change shows.
-// The knits slip_stitch_honeycomb and cartridge_belt_rib have no generator yet.
+// touch); satin 137.9 / 136.8 mm, Psi0 0.01168 / 0.01170 J/m^2 (each yarn flat on its side of
+// the cloth, peaked at its interlacing; with the cosine profile it was 0.033: the yarns pressed
+// at the crossings beside the interlacings); slip stitch honeycomb 175.6 / 178.2 mm, Psi0 0.56 /
+// 0.32 J/m^2: its rest energy does NOT match yet and is held only to a factor 2.2.
+// The knit cartridge_belt_rib has no generator yet.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -52,4 +53,10 @@ void compare(const std::string& name, int tx, int ty, double psi0_tolerance = 0.
 
 TEST(PaperPatterns, StockinetteMatchesThePublishedTile) { compare("stockinette", 2, 2); }
 TEST(PaperPatterns, BasketMatchesThePublishedTile) { compare("basket", 1, 1); }
-TEST(PaperPatterns, SatinMatchesThePublishedTilesPeriodAndYarnLength) { compare("satin", 1, 1, 2.0); }
+TEST(PaperPatterns, SatinMatchesThePublishedTile) { compare("satin", 1, 1); }
+// The honeycomb's rest energy does not match yet (0.56 against 0.32 J/m^2, generate.cpp says
+// why): held to its measured factor 1.7 with room for the 0.56-0.66 that details of the
+// relaxation give, so that a change shows.
+TEST(PaperPatterns, SlipStitchHoneycombMatchesThePublishedTilesPeriodAndYarnLength) {
+  compare("slip_stitch_honeycomb", 1, 1, 1.2);
+}

@@ -1,0 +1,111 @@
+// The knit generator (generate_knit, yarn/rod/gen_knit.cpp): what the stitch chart says shows
+// in the tile: one yarn per course, knit legs in front and purl legs behind, a slipped stitch a
+// float on its face with the loop below held up through the slipping course.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "yarn/rod/generate.hpp"
+#include "yarn/rod/pattern_build.hpp"
+
+using namespace yarnhom::yarn;
+
+namespace {
+
+KnitParams params(std::vector<std::string> chart) {
+  const double r = 1e-3;
+  KnitParams p;
+  p.radius = r;
+  p.px = 5.5 * r * chart[0].size();
+  p.py = 3.1 * r * chart.size();
+  p.chart = std::move(chart);
+  p.loop_height = 3.0 * r;
+  p.depth = 1.3 * r;
+  p.bulb = 1.6;
+  p.float_depth = 3.6 * r;
+  return p;
+}
+
+// The unwrapped centreline of yarn y (vertex positions moved by their tile offsets), in radii.
+std::vector<Eigen::Vector3d> yarn_points(const Pattern& p, int y) {
+  const Topology t = topology(p);
+  std::vector<Eigen::Vector3d> out;
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (int v : t.yarns[y]) {
+    out.push_back((p.x[v] + shift) / p.radius);
+    shift += Eigen::Vector3d(t.offset[v][0] * p.px, t.offset[v][1] * p.py, 0);
+  }
+  return out;
+}
+
+// a - b up to whole periods p: the signed distance to the nearest image.
+double off(double a, double b, double p) { return std::remainder(a - b, p); }
+
+double max_y(const std::vector<Eigen::Vector3d>& q) {
+  double m = -1e9;
+  for (const auto& v : q) m = std::max(m, v[1]);
+  return m;
+}
+
+}  // namespace
+
+TEST(GenerateKnit, OneClosedYarnPerCourseAlongX) {
+  const Pattern p = generate_knit(params({"PS", "KK", "SP", "KK"}));
+  const Topology t = topology(p);
+  ASSERT_EQ(t.yarns.size(), 4u);
+  for (int y = 0; y < 4; ++y) {
+    Eigen::Vector2i shift = Eigen::Vector2i::Zero();
+    for (int v : t.yarns[y]) shift += t.offset[v];
+    EXPECT_EQ(shift, Eigen::Vector2i(1, 0)) << "yarn " << y;
+  }
+  for (int v = 0; v < p.size(); ++v) {
+    EXPECT_GT(stored_edge(p, t, v).norm(), 0.5 * p.radius);
+    EXPECT_LT(stored_edge(p, t, v).norm(), 1.5 * p.radius);
+  }
+}
+
+TEST(GenerateKnit, KnitLegsInFrontPurlLegsBehindFloatsOnTheirFace) {
+  // Stockinette (all K) and its reverse (all P): the legs (mid-height of the loop) at +-depth.
+  for (char s : {'K', 'P'}) {
+    const Pattern p = generate_knit(params({std::string(2, s), std::string(2, s)}));
+    const auto q = yarn_points(p, 0);
+    const double yk = -p.py / 2 / p.radius + 0.5 * 3.1;  // course 0's mid-height, radii
+    double z_mid = 0;
+    int n = 0;
+    for (const auto& v : q)
+      if (std::abs(off(v[1], yk, p.py / p.radius)) < 0.3) z_mid += v[2], ++n;
+    ASSERT_GT(n, 0);
+    EXPECT_NEAR(z_mid / n, s == 'K' ? 1.3 : -1.3, 0.2) << s;
+  }
+  // A slipped stitch: the course floats across its wale on the face, at float_depth or beyond.
+  const Pattern p = generate_knit(params({"KS", "KK"}));
+  const auto q = yarn_points(p, 0);
+  const double xw = p.px / 4 / p.radius;  // wale 1's centre, radii
+  int n = 0;
+  for (const auto& v : q)
+    if (std::abs(off(v[0], xw, p.px / p.radius)) < 1.0) {
+      EXPECT_GT(v[2], 3.55);
+      ++n;
+    }
+  EXPECT_GT(n, 0);
+}
+
+TEST(GenerateKnit, SlippedCoursesHoldTheLoopBelowUp) {
+  // Course 0's loop in wale 1 is slipped by course 1 and caught by course 2: it reaches one
+  // course (3.1 radii) higher than its loop in wale 0.
+  const Pattern p = generate_knit(params({"KK", "KS", "KK"}));
+  const auto q = yarn_points(p, 0);
+  std::vector<Eigen::Vector3d> left, right;
+  for (const auto& v : q) (off(v[0], 0, p.px / p.radius) < 0 ? left : right).push_back(v);
+  EXPECT_NEAR(max_y(right) - max_y(left), 3.1, 0.3);
+}
+
+TEST(GenerateKnit, RefusesBadCharts) {
+  EXPECT_THROW(generate_knit(params({"KX", "KK"})), std::invalid_argument);
+  EXPECT_THROW(generate_knit(params({"KKK", "KK"})), std::invalid_argument);
+  EXPECT_THROW(generate_knit(params({"KS", "KS"})), std::invalid_argument);  // wale 1 never worked
+  KnitParams flat = params({"KK"});
+  flat.depth = 0;
+  EXPECT_THROW(generate_knit(flat), std::invalid_argument);
+}
