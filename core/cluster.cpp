@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include <unistd.h>
 
@@ -40,6 +41,15 @@ void init(int* argc, char*** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
   g_active = true;
+  // The launcher's variables were read by MPI_Init; a child process of this rank (a stage of
+  // pipeline or accuracy, a plot script) must not take itself for a rank of this run.
+  std::vector<std::string> names;
+  for (char** e = environ; *e; ++e) {
+    const std::string kv = *e;
+    for (const char* prefix : {"OMPI_", "PMIX_", "PMI_"})
+      if (kv.rfind(prefix, 0) == 0) names.push_back(kv.substr(0, kv.find('=')));
+  }
+  for (const auto& n : names) unsetenv(n.c_str());
   std::atexit(finalize);
 }
 
