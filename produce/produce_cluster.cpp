@@ -79,6 +79,31 @@ CheckpointRecord state_record(const ProduceNode& n, const RveState& st) {
   return rec;
 }
 
+// A branch target's result travels as a record: its state present when it moved.
+CheckpointRecord move_record(const BranchMove& mv) {
+  CheckpointRecord rec;
+  rec.psi = mv.psi;
+  rec.grad = mv.grad;
+  rec.iterations = mv.iterations;
+  rec.seconds = mv.seconds;
+  rec.cpu_seconds = mv.cpu_seconds;
+  rec.status = kLowerBranch;
+  rec.has_state = mv.moved;
+  if (mv.moved) rec.state = *mv.state;
+  return rec;
+}
+BranchMove move_of(CheckpointRecord&& rec) {
+  BranchMove mv;
+  mv.moved = rec.has_state;
+  mv.psi = rec.psi;
+  mv.grad = rec.grad;
+  mv.iterations = rec.iterations;
+  mv.seconds = rec.seconds;
+  mv.cpu_seconds = rec.cpu_seconds;
+  if (mv.moved) mv.state = std::make_shared<RveState>(std::move(rec.state));
+  return mv;
+}
+
 // ---- rank 0 ----------------------------------------------------------------------------------
 
 class Coordinator {
@@ -295,15 +320,8 @@ class Coordinator {
         continue;
       }
       const uint64_t k = in.get<uint64_t>();
-      CheckpointRecord rec = decode_record(in.bytes(), run_.rest());
       BranchMove& mv = moves.at(k);
-      mv.moved = rec.has_state;
-      mv.psi = rec.psi;
-      mv.grad = rec.grad;
-      mv.iterations = rec.iterations;
-      mv.seconds = rec.seconds;
-      mv.cpu_seconds = rec.cpu_seconds;
-      if (mv.moved) mv.state = std::make_shared<RveState>(std::move(rec.state));
+      mv = move_of(decode_record(in.bytes(), run_.rest()));
       ++finished;
       moved += mv.moved;
       if (run_.opt.branch_progress)
@@ -382,16 +400,7 @@ class Worker {
     for (uint64_t i = 0; i < nr; ++i)
       from.push_back(std::make_shared<RveState>(decode_record(in.bytes(), run_.rest()).state));
     const BranchMove mv = branch_solve(run_, run_.nodes.at(id).s, best, from);
-    CheckpointRecord rec;
-    rec.psi = mv.psi;
-    rec.grad = mv.grad;
-    rec.iterations = mv.iterations;
-    rec.seconds = mv.seconds;
-    rec.cpu_seconds = mv.cpu_seconds;
-    rec.status = kLowerBranch;
-    rec.has_state = mv.moved;
-    if (mv.moved) rec.state = *mv.state;
-    cluster::send(0, kToRoot, Pack(kMove).put(k).bytes(encode_record(rec, run_.rest())).b);
+    cluster::send(0, kToRoot, Pack(kMove).put(k).bytes(encode_record(move_record(mv), run_.rest())).b);
   }
 
   ProduceRun& run_;
