@@ -19,7 +19,7 @@
 namespace yarnhom::cluster {
 namespace {
 
-bool g_active = false;
+[[maybe_unused]] bool g_active = false;  // MPI initialized by init() (only in a build with MPI)
 int g_rank = 0, g_size = 1;
 
 // mpirun (Open MPI), mpiexec (MPICH, Hydra) and srun (Slurm's PMI) each set one of these.
