@@ -23,21 +23,7 @@ CcdResult segment_ccd(const Vec12& q0, const Vec12& q1, double dmin, const CcdOp
   const Eigen::Vector3d m = 0.25 * (dq.segment<3>(0) + dq.segment<3>(3) + dq.segment<3>(6) + dq.segment<3>(9));
   const double l = std::max((dq.segment<3>(0) - m).norm(), (dq.segment<3>(3) - m).norm()) +
                    std::max((dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm());
-  // Safe throughout when even the fastest approach cannot close the gap.
-  if (res.d0 - l > dmin) return res;
-  const double stop = opt.tolerance * (res.d0 - dmin);
-  double t = 0, d = res.d0;
-  for (int it = 0; it < opt.max_iterations; ++it) {
-    const double dt = (d - dmin) / l;  // [t, t + dt] is safe
-    if (t + dt >= 1.0) {
-      res.t = 1.0;
-      return res;
-    }
-    t += dt;
-    d = dist(t);
-    if (d - dmin <= stop) break;  // reached d_min (to the tolerance): a contact at t
-  }
-  res.t = t;
+  advance(dist, dmin, l, opt, res);
   return res;
 }
 

@@ -38,6 +38,30 @@ struct CcdResult {
 // start is already at or below d_min.
 CcdResult segment_ccd(const Vec12& q0, const Vec12& q1, double dmin, const CcdOptions& opt = {});
 
+// Conservative advancement along a straight move, given dist(t) (the pair's closest distance
+// at the fraction t of the move, res.d0 = dist(0) already above `target`) and l, a bound on how
+// fast the distance can shrink per unit t: steps of (d - target) / l never pass the target, so
+// res.t is where the distance reaches it (to opt.tolerance of the gap), or 1 when it never does.
+// What segment_ccd and the surface pairs' CCD (numerics/contact_pairs.hpp) share.
+template <class Dist>
+void advance(Dist&& dist, double target, double l, const CcdOptions& opt, CcdResult& res) {
+  // Safe throughout when even the fastest approach cannot close the gap.
+  if (res.d0 - l > target) return;
+  const double stop = opt.tolerance * (res.d0 - target);
+  double t = 0, d = res.d0;
+  for (int it = 0; it < opt.max_iterations; ++it) {
+    const double dt = (d - target) / l;  // [t, t + dt] is safe
+    if (t + dt >= 1.0) {
+      res.t = 1.0;
+      return;
+    }
+    t += dt;
+    d = dist(t);
+    if (d - target <= stop) break;  // reached the target (to the tolerance): a contact at t
+  }
+  res.t = t;
+}
+
 // One segment's straight move: endpoints at the start and at the end.
 struct SegmentMove {
   std::array<Eigen::Vector3d, 2> start, end;

@@ -51,20 +51,7 @@ CcdResult contact_ccd(ContactKind kind, const Vec12& q0, const Vec12& q1, double
   else
     l = std::max((dq.segment<3>(0) - m).norm(), (dq.segment<3>(3) - m).norm()) +
         std::max((dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm());
-  const double target = dmin + eta * (res.d0 - dmin);  // never closer than this on [0, t]
-  if (res.d0 - l > target) return res;                 // cannot close the gap over the whole move
-  double t = 0, d = res.d0;
-  for (int it = 0; it < opt.max_iterations; ++it) {
-    const double dt = (d - target) / l;  // [t, t + dt] keeps d >= target
-    if (t + dt >= 1.0) {
-      res.t = 1.0;
-      return res;
-    }
-    t += dt;
-    d = dist(t);
-    if (d - target <= opt.tolerance * (res.d0 - target)) break;
-  }
-  res.t = t;
+  advance(dist, dmin + eta * (res.d0 - dmin), l, opt, res);  // never closer than that on [0, t]
   return res;
 }
 
