@@ -103,6 +103,15 @@ Message receive(int source, int tag, int poll_ms) {
   return m;
 }
 
+bool try_receive(int source, int tag, Message& out) {
+  if (!g_active) throw std::logic_error("cluster::try_receive without MPI");
+  int flag = 0;
+  MPI_Iprobe(source < 0 ? MPI_ANY_SOURCE : source, tag < 0 ? MPI_ANY_TAG : tag, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+  if (!flag) return false;
+  out = receive(source, tag);
+  return true;
+}
+
 void abort(const std::string& why, int code) {
   std::fprintf(stderr, "yarnhom: error: %s: %s\n", where().c_str(), why.c_str());
   std::fflush(stderr);
@@ -128,6 +137,7 @@ std::string host() {
 }
 void send(int, int, const std::string&) { throw std::logic_error("cluster::send: built without MPI"); }
 Message receive(int, int, int) { throw std::logic_error("cluster::receive: built without MPI"); }
+bool try_receive(int, int, Message&) { throw std::logic_error("cluster::try_receive: built without MPI"); }
 void abort(const std::string& why, int code) {
   std::fprintf(stderr, "yarnhom: error: %s\n", why.c_str());
   std::exit(code);

@@ -35,6 +35,8 @@ struct Message {
 };
 void send(int dest, int tag, const std::string& bytes);
 Message receive(int source, int tag, int poll_ms = 0);
+// A message with the tag from `source` (-1: any) if one has arrived; false at once otherwise.
+bool try_receive(int source, int tag, Message& out);
 
 // Ends every rank of the run (MPI_Abort) after printing `why` with this rank's name.
 [[noreturn]] void abort(const std::string& why, int code = 1);

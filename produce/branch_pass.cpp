@@ -146,9 +146,10 @@ class BranchPass {
     std::vector<double> best(targets.size());
     for (size_t k = 0; k < targets.size(); ++k) best[k] = nodes_[targets[k]].psi - min_gain_.at(targets[k]);
     if (run_.branch_round) {  // on the MPI ranks (produce_cluster.cpp)
-      std::vector<std::vector<int>> from;
-      for (int t : targets) from.push_back(sources.at(t));
-      std::vector<BranchMove> moves = run_.branch_round(round, targets, best, from);
+      std::vector<BranchJob> jobs;
+      for (size_t k = 0; k < targets.size(); ++k) jobs.push_back(job(targets[k], sources.at(targets[k]), best[k]));
+      std::vector<BranchMove> moves = run_.branch_round(
+          round, jobs, [&](const std::vector<const BranchMove*>& known) { return ahead(round, sources, targets, known); });
       round_moved_ = int(std::count_if(moves.begin(), moves.end(), [](const BranchMove& m) { return m.moved; }));
       return moves;
     }
@@ -169,9 +170,74 @@ class BranchPass {
     return moves;
   }
 
+  BranchJob job(int target, const std::vector<int>& from, double best) const {
+    BranchJob j;
+    j.target = target;
+    j.best = best;
+    j.from = from;
+    for (int src : from) j.states.push_back(run_.final_state[src]);
+    return j;
+  }
+
+  // While a round runs on the ranks (BranchPredict, produce_pass.hpp): the next round's jobs as
+  // it would form them if none of the unfinished targets moves, kept only where the target and
+  // its grid neighbours are all finished (an unfinished one could still change its sources,
+  // its energy or the pairs tried). The round is applied to the nodes as far as it is known,
+  // the next round's sources taken, and everything put back as it was. (The edges' typical
+  // change is a mean over the term, so an unfinished move can still change an edge far away:
+  // rank 0 uses a job solved ahead only if the next round asks exactly it.)
+  std::vector<BranchJob> ahead(int round, const std::map<int, std::vector<int>>& sources,
+                               const std::vector<int>& targets, const std::vector<const BranchMove*>& known) {
+    if (round + 1 > opt_.branch_rounds) return {};
+    std::set<int> open;
+    bool any_moved = false;
+    std::vector<BranchMove> moves(targets.size());
+    for (size_t k = 0; k < targets.size(); ++k) {
+      if (!known[k]) open.insert(targets[k]);
+      else moves[k] = *known[k], any_moved |= known[k]->moved;
+    }
+    if (!any_moved) return {};  // the pass may end with this round
+    struct Saved {
+      double psi, seconds, cpu_seconds, min_separation;
+      Strain grad;
+      int iterations;
+      bool moved;
+      std::shared_ptr<const RveState> state;
+    };
+    std::vector<Saved> saved;
+    for (int t : targets) {
+      const ProduceNode& n = nodes_[t];
+      saved.push_back({n.psi, n.seconds, n.cpu_seconds, n.min_separation, n.grad, n.iterations, n.moved, run_.final_state[t]});
+    }
+    const auto moved_last = moved_last_;
+    const auto tried = tried_;
+    const auto min_gain = min_gain_;
+    apply_round(sources, targets, moves, false);
+    std::map<int, std::vector<int>> next = round_sources();
+    load_source_states(next);
+    std::vector<BranchJob> jobs;
+    for (const auto& [target, from] : next) {
+      bool certain = !open.count(target);
+      for (int nb : neighbours_[target]) certain = certain && !open.count(nb);
+      if (certain) jobs.push_back(job(target, from, nodes_[target].psi - min_gain_.at(target)));
+    }
+    for (size_t k = 0; k < targets.size(); ++k) {
+      ProduceNode& n = nodes_[targets[k]];
+      const Saved& v = saved[k];
+      n.psi = v.psi, n.seconds = v.seconds, n.cpu_seconds = v.cpu_seconds, n.min_separation = v.min_separation;
+      n.grad = v.grad, n.iterations = v.iterations, n.moved = v.moved;
+      if (moves[k].moved) run_.final_state[targets[k]] = v.state;  // (states read back stay)
+    }
+    moved_last_ = moved_last;
+    tried_ = tried;
+    min_gain_ = min_gain;
+    return jobs;
+  }
+
   // Applied together, in node order: the round's result does not depend on the threads.
+  // (record false: a look ahead, nothing written to the checkpoint.)
   void apply_round(const std::map<int, std::vector<int>>& sources, const std::vector<int>& targets,
-                   const std::vector<BranchMove>& moves) {
+                   const std::vector<BranchMove>& moves, bool record = true) {
     for (const auto& [target, from] : sources)
       for (int src : from) tried_.insert({target, src});
     moved_last_.clear();
@@ -190,7 +256,7 @@ class BranchPass {
         it = it->first == targets[k] || it->second == targets[k] ? tried_.erase(it) : std::next(it);
       n.min_separation = mv.state->certificate.min_distance;
       run_.final_state[targets[k]] = mv.state;
-      if (run_.ck) {
+      if (run_.ck && record) {
         CheckpointRecord rec = record_of(n, kLowerBranch);
         rec.has_state = true;
         rec.state = *mv.state;

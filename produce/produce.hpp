@@ -79,6 +79,13 @@ struct Failure {
   Strain s;
   std::string status;
 };
+// On MPI ranks: where one rank's time went (produce_cluster.cpp), for the summary.
+struct RankLoad {
+  double node_busy = 0;     // s solving the first pass's tasks
+  double branch_busy = 0;   // s solving branch jobs, those solved ahead included
+  double ahead_lost = 0;    // of which jobs solved ahead that their round did not ask after all
+  int tasks = 0, jobs = 0;  // first-pass tasks and branch jobs it ran
+};
 struct ProduceReport {
   RestReport rest;
   RestHessian rest_hessian;        // d2Psi/ds2 at s = 0, measured on the RVE (in the dataset when ok)
@@ -97,6 +104,12 @@ struct ProduceReport {
   double seconds = 0;              // wall time of this run
   double solve_seconds = 0;        // sum of the node solves' wall times
   double solve_cpu_seconds = 0;    // and CPU times (this run only; resumed samples excluded)
+  // On MPI ranks: each rank's load (rank 0's solving thread included), the two passes' wall
+  // times, the coordinator thread's CPU time, and the branch jobs solved ahead of their round
+  // (docs/produce.md, "On a cluster").
+  std::vector<RankLoad> rank_load;
+  double node_pass_seconds = 0, branch_pass_seconds = 0, coordinator_cpu_seconds = 0;
+  int ahead_solved = 0, ahead_used = 0;
 };
 
 Dataset produce(const Pattern& pattern, const ProduceOptions& opt, ProduceReport* report = nullptr);

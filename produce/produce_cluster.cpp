@@ -1,76 +1,32 @@
-// produce() on MPI ranks (docs/produce.md, "On a cluster"): rank 0 coordinates, every other rank
-// solves. Rank 0 reads and writes the checkpoint, hands out the first pass's work (pieces of the
-// sectors' warm-start trees, each ready once the node it starts from is solved; the longest
-// path first, a rank that finishes early takes the next) and then each branch round's targets
-// one at a time, takes every finished node in as it comes (checkpoint record, progress
-// line), and writes the one dataset. The workers build the same nodes and tasks from the same
-// options and relax the same rest tile (checked: each sends its rest signature first), so a
-// node's solve does not depend on where it runs, and the dataset is the one-process dataset, bit
-// for bit, at any number of ranks; a killed run resumes from rank 0's checkpoint with any other.
+// produce() on MPI ranks (docs/produce.md, "On a cluster"), rank 0's coordinator: it reads and
+// writes the checkpoint, hands out the first pass's work (pieces of the sectors' warm-start
+// trees, each ready once the node it starts from is solved; the longest path first, a rank that
+// finishes early takes the next) and then the branch rounds' jobs, takes every finished node in
+// as it comes (checkpoint record, progress line), and writes the one dataset. Every rank solves,
+// rank 0 too, on a thread beside the coordinator (produce_cluster.hpp, cluster_solver.cpp).
 //
-// Messages (core/cluster.hpp), one byte of kind first; worker -> rank 0 all on one tag, so that
-// each worker's messages arrive in the order it sent them:
-//   hello  <rest signature>                 a worker is ready, with its rest state's identity
-//   node   <checkpoint record>              a first-pass node finished (its state when converged)
-//   ready                                   a worker finished its task
-//   move   <k> <record>                     branch target k solved (its state when it moved)
-//   error  <text>                           a worker failed; rank 0 ends the run
-// rank 0 -> a worker:
-//   task   <task> <done ids> <records>      solve this sector's nodes not listed done; the records
-//                                           are the states its nodes start from (solved elsewhere
-//                                           or resumed)
-//   target <k> <node> <best> <records>      solve node from each record's state, accept below best
-//   stop
+// The branch rounds overlap: while a round's last jobs run, the ranks left without work solve
+// the next round's jobs that the finished ones already decide (BranchPredict, produce_pass.hpp),
+// and the next round, formed exactly as in one process, takes such a result only where it asks
+// the very same job (target, threshold and source states). A job's result depends only on those,
+// so the dataset is the one-process dataset, bit for bit, at any number of ranks; a killed run
+// resumes from rank 0's checkpoint with any other.
+#include <time.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <numeric>
 #include <set>
-#include <stdexcept>
 
 #include "core/cluster.hpp"
-#include "produce/produce_pass.hpp"
+#include "produce/produce_cluster.hpp"
 
 namespace yarnhom::yarn {
 namespace {
 
-constexpr int kToRoot = 1, kToWorker = 2;
-enum Kind : char { kHello = 'h', kNode = 'n', kReady = 'r', kMove = 'm', kError = 'e', kTask = 't', kTarget = 'g', kStop = 's' };
-
-// Plain values and byte strings, length first.
-struct Pack {
-  std::string b;
-  explicit Pack(Kind k) { b.push_back(k); }
-  template <class T>
-  Pack& put(const T& v) {
-    b.append(reinterpret_cast<const char*>(&v), sizeof v);
-    return *this;
-  }
-  Pack& bytes(const std::string& s) {
-    put(static_cast<uint64_t>(s.size()));
-    b += s;
-    return *this;
-  }
-};
-struct Unpack {
-  const std::string& b;
-  size_t at = 1;
-  template <class T>
-  T get() {
-    if (at + sizeof(T) > b.size()) throw std::runtime_error("produce: a message cut short");
-    T v;
-    std::memcpy(&v, b.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-  std::string bytes() {
-    const uint64_t n = get<uint64_t>();
-    if (at + n > b.size()) throw std::runtime_error("produce: a message cut short");
-    std::string s = b.substr(at, n);
-    at += n;
-    return s;
-  }
-};
+using namespace cluster_produce;
 
 CheckpointRecord state_record(const ProduceNode& n, const RveState& st) {
   CheckpointRecord rec = record_of(n, n.status);
@@ -79,53 +35,42 @@ CheckpointRecord state_record(const ProduceNode& n, const RveState& st) {
   return rec;
 }
 
-// A branch target's result travels as a record: its state present when it moved.
-CheckpointRecord move_record(const BranchMove& mv) {
-  CheckpointRecord rec;
-  rec.psi = mv.psi;
-  rec.grad = mv.grad;
-  rec.iterations = mv.iterations;
-  rec.seconds = mv.seconds;
-  rec.cpu_seconds = mv.cpu_seconds;
-  rec.status = kLowerBranch;
-  rec.has_state = mv.moved;
-  if (mv.moved) rec.state = *mv.state;
-  return rec;
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
-BranchMove move_of(CheckpointRecord&& rec) {
-  BranchMove mv;
-  mv.moved = rec.has_state;
-  mv.psi = rec.psi;
-  mv.grad = rec.grad;
-  mv.iterations = rec.iterations;
-  mv.seconds = rec.seconds;
-  mv.cpu_seconds = rec.cpu_seconds;
-  if (mv.moved) mv.state = std::make_shared<RveState>(std::move(rec.state));
-  return mv;
-}
-
-// ---- rank 0 ----------------------------------------------------------------------------------
 
 class Coordinator {
  public:
-  explicit Coordinator(ProduceRun& run) : run_(run), workers_(cluster::size() - 1), idle_(cluster::size(), false) {}
-
-  void first_pass() {
-    tasks_ = sector_tasks(run_);
-    mark_states_needed(run_, tasks_);
-    for (const auto& n : run_.nodes) {
-      ++total_;
-      if (n.done) ++done_;
-    }
-    run_.final_state.assign(run_.nodes.size(), nullptr);
-    make_units();
-    while (!ready_.empty() || waiting_ > 0 || idle_count() < workers_) handle(cluster::receive(-1, kToRoot, 1));
-    run_.branch_round = [this](int round, const std::vector<int>& targets, const std::vector<double>& best,
-                               const std::vector<std::vector<int>>& from) { return branch_round(round, targets, best, from); };
+  explicit Coordinator(ProduceRun& run)
+      : run_(run), ranks_(cluster::size()), idle_(cluster::size(), false), load_(cluster::size()) {
+    // Hand-out order: rank 0 last, as its solver shares a core with this thread.
+    for (int r = 1; r < ranks_; ++r) order_.push_back(r);
+    order_.push_back(0);
   }
 
-  void stop() {
-    for (int w = 1; w <= workers_; ++w) cluster::send(w, kToWorker, Pack(kStop).b);
+  void run() {
+    const double cpu0 = thread_cpu_seconds(), t0 = run_.elapsed();
+    local_ = std::make_unique<LocalSolver>(run_);
+    idle_[0] = true;
+    first_pass();
+    const double t1 = run_.elapsed();
+    run_.branch_round = [this](int round, const std::vector<BranchJob>& jobs, const BranchPredict& next) {
+      return branch_round(round, jobs, next);
+    };
+    branch_pass(run_);
+    // Jobs solved ahead for a round that never came: their ranks finish them first.
+    while (idle_count() < ranks_) handle(next_message());
+    for (int r = 1; r < ranks_; ++r) cluster::send(r, kToWorker, Pack(kStop).b);
+    local_.reset();
+    ProduceReport& rep = run_.rep;
+    rep.node_pass_seconds = t1 - t0;
+    rep.branch_pass_seconds = run_.elapsed() - t1;
+    rep.coordinator_cpu_seconds = thread_cpu_seconds() - cpu0;
+    rep.rank_load = load_;
+    rep.ahead_solved = ahead_solved_;
+    rep.ahead_used = ahead_used_;
   }
 
  private:
@@ -138,11 +83,86 @@ class Coordinator {
     std::vector<int> nodes;               // local indices
     int height = 0;                       // nodes to solve on the longest path down from its root
   };
+  // A branch job on a rank: of the round running (k: its index there), solved ahead for the
+  // next one, or no longer wanted (its result is dropped).
+  enum class Use { kRound, kAhead, kDropped };
+  struct Job {
+    BranchJob in;
+    Use use = Use::kRound;
+    size_t k = 0;
+    int rank = 0;
+    bool done = false;
+    double busy = 0;
+    BranchMove result;
+  };
+
+  // ---- messages ----
+
+  // The next message from any rank: rank 0's own solver's at once, the others' within a ms.
+  cluster::Message next_message() {
+    cluster::Message m;
+    m.tag = kToRoot;
+    for (;;) {
+      if (local_->outbox.pop(m.bytes, 0)) return m.source = 0, m;
+      if (cluster::try_receive(-1, kToRoot, m)) return m;
+      if (local_->outbox.pop(m.bytes, 1)) return m.source = 0, m;
+    }
+  }
+
+  void post(int rank, const std::string& bytes) {
+    idle_[rank] = false;
+    if (rank == 0) local_->inbox.push(bytes);
+    else cluster::send(rank, kToWorker, bytes);
+  }
+
+  int idle_count() const { return int(std::count(idle_.begin(), idle_.end(), true)); }
+
+  void handle(const cluster::Message& m) {
+    Unpack in{m.bytes};
+    switch (m.bytes.empty() ? 0 : m.bytes[0]) {
+      case kHello: {
+        const std::string sig = in.bytes(), mine = rest_signature(run_.r0.psi, run_.rest());
+        if (sig != mine)
+          cluster::abort("rank " + std::to_string(m.source) + " relaxed another rest state (" + sig + " against rank 0's " +
+                         mine + "): the ranks run different builds of yarnhom, or different inputs");
+        idle_[m.source] = true;
+        break;
+      }
+      case kReady:
+        load_[m.source].node_busy += in.get<double>();
+        ++load_[m.source].tasks;
+        idle_[m.source] = true;
+        break;
+      case kNode: node_finished(in.bytes()); break;
+      case kMove: move_arrived(m.source, in); break;
+      case kError: cluster::abort("rank " + std::to_string(m.source) + " failed: " + in.bytes()); break;
+      default: cluster::abort("produce: an unexpected message from rank " + std::to_string(m.source));
+    }
+  }
+
+  // ---- the first pass ----
+
+  void first_pass() {
+    tasks_ = sector_tasks(run_);
+    mark_states_needed(run_, tasks_);
+    for (const auto& n : run_.nodes) {
+      ++total_;
+      if (n.done) ++done_;
+    }
+    run_.final_state.assign(run_.nodes.size(), nullptr);
+    make_units();
+    for (;;) {
+      for (int r : order_)
+        if (idle_[r] && !ready_.empty()) give_unit(r);
+      if (ready_.empty() && waiting_ == 0 && idle_count() == ranks_) break;
+      handle(next_message());
+    }
+  }
 
   void make_units() {
     int todo_total = 0;
     for (const auto& n : run_.nodes) todo_total += !n.done;
-    const int unit_size = std::max(4, todo_total / std::max(1, 8 * workers_));
+    const int unit_size = std::max(4, todo_total / std::max(1, 8 * ranks_));
     for (size_t t = 0; t < tasks_.size(); ++t) {
       const SectorTask& task = tasks_[t];
       const WarmStartPlan& plan = task.plan;
@@ -185,28 +205,6 @@ class Coordinator {
     }
   }
 
-  int idle_count() const { return int(std::count(idle_.begin(), idle_.end(), true)); }
-
-  void handle(const cluster::Message& m) {
-    Unpack in{m.bytes};
-    switch (m.bytes.empty() ? 0 : m.bytes[0]) {
-      case kHello: {
-        const std::string sig = in.bytes(), mine = rest_signature(run_.r0.psi, run_.rest());
-        if (sig != mine)
-          cluster::abort("rank " + std::to_string(m.source) + " relaxed another rest state (" + sig + " against rank 0's " +
-                         mine + "): the ranks run different builds of yarnhom, or different inputs");
-        idle_[m.source] = true;
-        break;
-      }
-      case kReady: idle_[m.source] = true; break;
-      case kNode: node_finished(in.bytes()); break;
-      case kError: cluster::abort("rank " + std::to_string(m.source) + " failed: " + in.bytes()); break;
-      default: cluster::abort("produce: an unexpected message from rank " + std::to_string(m.source));
-    }
-    for (int w = 1; w <= workers_ && !ready_.empty(); ++w)
-      if (idle_[w]) give_unit(w);
-  }
-
   // A resumed node's state (with its sensitivities) from the checkpoint, as record bytes.
   std::string resumed_record(const ProduceNode& n) {
     CheckpointRecord rec = run_.cc.records[n.record];
@@ -220,7 +218,7 @@ class Coordinator {
     return encode_record(rec, run_.rest());
   }
 
-  void give_unit(int w) {
+  void give_unit(int r) {
     const int u = ready_.begin()->second;
     ready_.erase(ready_.begin());
     const Unit& unit = units_[u];
@@ -240,7 +238,7 @@ class Coordinator {
       ProduceNode& n = run_.nodes[task.nodes[li]];
       if (n.done && n.state_needed) records.push_back(resumed_record(n));
     }
-    // Every node of the task outside the unit counts as done for the worker.
+    // Every node of the task outside the unit counts as done for the solver.
     std::vector<int> done_ids;
     for (size_t li = 0; li < task.nodes.size(); ++li)
       if (!in_unit[li] || run_.nodes[task.nodes[li]].done) done_ids.push_back(task.nodes[li]);
@@ -248,9 +246,8 @@ class Coordinator {
     p.put(int32_t(unit.task)).put(uint64_t(done_ids.size()));
     for (int id : done_ids) p.put(int32_t(id));
     p.put(uint64_t(records.size()));
-    for (const auto& r : records) p.bytes(r);
-    idle_[w] = false;
-    cluster::send(w, kToWorker, p.b);
+    for (const auto& rec : records) p.bytes(rec);
+    post(r, p.b);
   }
 
   void node_finished(const std::string& bytes) {
@@ -288,53 +285,146 @@ class Coordinator {
     if (run_.opt.progress) run_.opt.progress(done_, total_, failed_, run_.elapsed());
   }
 
-  std::vector<BranchMove> branch_round(int round, const std::vector<int>& targets, const std::vector<double>& best,
-                                       const std::vector<std::vector<int>>& from) {
-    std::vector<BranchMove> moves(targets.size());
-    // The targets with the most sources (one solve each) first, so that the round does not wait
-    // on a long one handed out last; each result lands at its own index, so the order of the
-    // solves changes nothing in the data.
-    std::vector<size_t> order(targets.size());
-    std::iota(order.begin(), order.end(), size_t(0));
-    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return from[a].size() > from[b].size(); });
-    size_t next = 0;
-    int finished = 0, moved = 0;
-    auto send_target = [&](int w) {
-      const size_t k = order[next++];
-      Pack p(kTarget);
-      p.put(uint64_t(k)).put(int32_t(targets[k])).put(best[k]);
-      std::vector<std::string> records;
-      for (int src : from[k])
-        if (run_.final_state[src]) records.push_back(encode_record(state_record(run_.nodes[src], *run_.final_state[src]), run_.rest()));
-      p.put(uint64_t(records.size()));
-      for (const auto& r : records) p.bytes(r);
-      idle_[w] = false;
-      cluster::send(w, kToWorker, p.b);
-    };
-    for (int w = 1; w <= workers_ && next < targets.size(); ++w) send_target(w);
-    while (finished < int(targets.size())) {
-      const cluster::Message m = cluster::receive(-1, kToRoot, 1);
-      Unpack in{m.bytes};
-      if (m.bytes.empty() || m.bytes[0] != kMove) {
-        handle(m);  // an error
+  // ---- the branch pass ----
+
+  static bool same_job(const BranchJob& a, const BranchJob& b) {
+    return a.target == b.target && std::memcmp(&a.best, &b.best, sizeof a.best) == 0 && a.from == b.from &&
+           a.states == b.states;
+  }
+
+  void send_job(int r, uint64_t id) {
+    Job& j = jobs_.at(id);
+    j.rank = r;
+    Pack p(kTarget);
+    p.put(id).put(int32_t(j.in.target)).put(j.in.best);
+    std::vector<std::string> records;
+    for (size_t i = 0; i < j.in.from.size(); ++i)
+      if (j.in.states[i])
+        records.push_back(encode_record(state_record(run_.nodes[j.in.from[i]], *j.in.states[i]), run_.rest()));
+    p.put(uint64_t(records.size()));
+    for (const auto& rec : records) p.bytes(rec);
+    post(r, p.b);
+  }
+
+  uint64_t new_job(const BranchJob& in, Use use, size_t k) {
+    Job j;
+    j.in = in;
+    j.use = use;
+    j.k = k;
+    jobs_[next_id_] = std::move(j);
+    return next_id_++;
+  }
+
+  // A result of the round running lands at its index; the order of the solves changes nothing.
+  void finish(size_t k, BranchMove&& mv) {
+    round_moves_[k] = std::move(mv);
+    have_[k] = true;
+    ++finished_;
+    moved_ += round_moves_[k].moved;
+    changed_ = true;
+    if (run_.opt.branch_progress)
+      run_.opt.branch_progress(round_, finished_, int(round_moves_.size()), moved_, run_.elapsed());
+  }
+
+  void move_arrived(int source, Unpack& in) {
+    const uint64_t id = in.get<uint64_t>();
+    const double busy = in.get<double>();
+    auto it = jobs_.find(id);
+    if (it == jobs_.end()) cluster::abort("produce: a branch result from rank " + std::to_string(source) + " for no job");
+    Job& j = it->second;
+    idle_[source] = true;
+    load_[source].branch_busy += busy;
+    ++load_[source].jobs;
+    j.done = true;
+    j.busy = busy;
+    j.result = move_of(decode_record(in.bytes(), run_.rest()));
+    if (j.use == Use::kRound) {
+      finish(j.k, std::move(j.result));
+      jobs_.erase(it);
+    } else if (j.use == Use::kDropped) {
+      load_[source].ahead_lost += busy;
+      jobs_.erase(it);
+    }
+  }
+
+  std::vector<BranchMove> branch_round(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next) {
+    round_ = round;
+    round_moves_.assign(jobs.size(), BranchMove{});
+    have_.assign(jobs.size(), false);
+    finished_ = moved_ = 0;
+    // Jobs solved (or being solved) ahead: taken where this round asks exactly them.
+    std::vector<size_t> queue;
+    for (size_t k = 0; k < jobs.size(); ++k) {
+      auto a = ahead_.find(jobs[k].target);
+      if (a != ahead_.end() && same_job(jobs_.at(a->second).in, jobs[k])) {
+        Job& j = jobs_.at(a->second);
+        ++ahead_used_;
+        j.use = Use::kRound;
+        j.k = k;
+        if (j.done) {
+          finish(k, std::move(j.result));
+          jobs_.erase(a->second);
+        }
+        ahead_.erase(a);
+      } else {
+        queue.push_back(k);
+      }
+    }
+    for (const auto& [target, id] : ahead_) {
+      Job& j = jobs_.at(id);
+      if (!j.done) {
+        j.use = Use::kDropped;
         continue;
       }
-      const uint64_t k = in.get<uint64_t>();
-      BranchMove& mv = moves.at(k);
-      mv = move_of(decode_record(in.bytes(), run_.rest()));
-      ++finished;
-      moved += mv.moved;
-      if (run_.opt.branch_progress)
-        run_.opt.branch_progress(round, finished, int(targets.size()), moved, run_.elapsed());
-      if (next < targets.size()) send_target(m.source);
-      else idle_[m.source] = true;
+      load_[j.rank].ahead_lost += j.busy;
+      jobs_.erase(id);
     }
-    return moves;
+    ahead_.clear();
+    // The jobs with the most sources (one solve each) first, so that the round does not wait on
+    // a long one handed out last.
+    std::stable_sort(queue.begin(), queue.end(),
+                     [&](size_t a, size_t b) { return jobs[a].from.size() > jobs[b].from.size(); });
+    size_t next_k = 0;
+    std::vector<BranchJob> later;  // the next round's jobs that may be solved ahead
+    changed_ = true;
+    while (finished_ < int(jobs.size())) {
+      for (int r : order_) {
+        if (!idle_[r]) continue;
+        if (next_k < queue.size()) {
+          send_job(r, new_job(jobs[queue[next_k]], Use::kRound, queue[next_k]));
+          ++next_k;
+          continue;
+        }
+        if (changed_) {  // what the finished jobs decide of the next round, anew
+          changed_ = false;
+          std::vector<const BranchMove*> known(jobs.size(), nullptr);
+          for (size_t k = 0; k < jobs.size(); ++k)
+            if (have_[k]) known[k] = &round_moves_[k];
+          later = next(known);
+          later.erase(std::remove_if(later.begin(), later.end(), [&](const BranchJob& j) { return ahead_.count(j.target) > 0; }),
+                      later.end());
+          std::stable_sort(later.begin(), later.end(),
+                           [](const BranchJob& a, const BranchJob& b) { return a.from.size() < b.from.size(); });
+        }
+        if (later.empty()) break;
+        const uint64_t id = new_job(later.back(), Use::kAhead, 0);
+        ahead_[later.back().target] = id;
+        later.pop_back();
+        ++ahead_solved_;
+        send_job(r, id);
+      }
+      if (finished_ < int(jobs.size())) handle(next_message());
+    }
+    return round_moves_;
   }
 
   ProduceRun& run_;
-  const int workers_;
+  const int ranks_;
+  std::vector<int> order_;
   std::vector<bool> idle_;  // by rank
+  std::vector<RankLoad> load_;
+  std::unique_ptr<LocalSolver> local_;
+  // The first pass.
   std::vector<SectorTask> tasks_;
   std::vector<Unit> units_;
   std::set<std::pair<int, int>> ready_;             // (-height, unit): the longest path first
@@ -342,90 +432,19 @@ class Coordinator {
   int waiting_ = 0;
   std::map<int, std::string> solved_records_;       // those nodes' records, with their states
   int total_ = 0, done_ = 0, failed_ = 0;
-};
-
-// ---- the other ranks -------------------------------------------------------------------------
-
-class Worker {
- public:
-  explicit Worker(ProduceRun& run) : run_(run) {
-    run_.node_sink = [&run](const CheckpointRecord& rec) {
-      cluster::send(0, kToRoot, Pack(kNode).bytes(encode_record(rec, run.rest())).b);
-    };
-  }
-
-  void run() {
-    cluster::send(0, kToRoot, Pack(kHello).bytes(rest_signature(run_.r0.psi, run_.rest())).b);
-    tasks_ = sector_tasks(run_);
-    for (;;) {
-      const cluster::Message m = cluster::receive(0, kToWorker);
-      Unpack in{m.bytes};
-      const char kind = m.bytes.empty() ? 0 : m.bytes[0];
-      if (kind == kStop) return;
-      if (kind == kTask) task(in);
-      else if (kind == kTarget) target(in);
-      else throw std::runtime_error("an unexpected message from rank 0");
-    }
-  }
-
- private:
-  void task(Unpack& in) {
-    const int t = in.get<int32_t>();
-    if (t < 0 || t >= int(tasks_.size())) throw std::runtime_error("a task this rank does not have");
-    const SectorTask& task = tasks_[t];
-    for (int id : task.nodes) run_.nodes[id].done = run_.nodes[id].state_needed = false;
-    const uint64_t nd = in.get<uint64_t>();
-    for (uint64_t i = 0; i < nd; ++i) run_.nodes.at(in.get<int32_t>()).done = true;
-    run_.resumed_states.clear();
-    const uint64_t nr = in.get<uint64_t>();
-    for (uint64_t i = 0; i < nr; ++i) {
-      CheckpointRecord rec = decode_record(in.bytes(), run_.rest());
-      const int id = run_.term_nodes_idx.at(rec.term).at(rec.index);
-      run_.nodes[id].state_needed = true;
-      run_.resumed_states[id] = std::move(rec);
-    }
-    if (!have_sensitivity_) rest_sens_ = rest_sensitivity(run_), have_sensitivity_ = true;
-    int done = 0, failed = 0;
-    solve_task(run_, task, rest_sens_, done, failed, 0);
-    run_.resumed_states.clear();
-    cluster::send(0, kToRoot, Pack(kReady).b);
-  }
-
-  void target(Unpack& in) {
-    const uint64_t k = in.get<uint64_t>();
-    const int id = in.get<int32_t>();
-    const double best = in.get<double>();
-    std::vector<std::shared_ptr<const RveState>> from;
-    const uint64_t nr = in.get<uint64_t>();
-    for (uint64_t i = 0; i < nr; ++i)
-      from.push_back(std::make_shared<RveState>(decode_record(in.bytes(), run_.rest()).state));
-    const BranchMove mv = branch_solve(run_, run_.nodes.at(id).s, best, from);
-    cluster::send(0, kToRoot, Pack(kMove).put(k).bytes(encode_record(move_record(mv), run_.rest())).b);
-  }
-
-  ProduceRun& run_;
-  std::vector<SectorTask> tasks_;
-  std::vector<Eigen::VectorXd> rest_sens_;
-  bool have_sensitivity_ = false;
+  // The branch pass: jobs on the ranks by id, those solved ahead by target, the round running.
+  std::map<uint64_t, Job> jobs_;
+  uint64_t next_id_ = 0;
+  std::map<int, uint64_t> ahead_;
+  int round_ = 0, finished_ = 0, moved_ = 0;
+  std::vector<BranchMove> round_moves_;
+  std::vector<bool> have_;
+  bool changed_ = false;  // a result came in since the look ahead
+  int ahead_solved_ = 0, ahead_used_ = 0;
 };
 
 }  // namespace
 
-void cluster_coordinate(ProduceRun& run) {
-  Coordinator c(run);
-  c.first_pass();
-  branch_pass(run);
-  c.stop();
-}
-
-void cluster_work(ProduceRun& run) {
-  try {
-    Worker(run).run();
-  } catch (const std::exception& e) {
-    cluster::send(0, kToRoot, Pack(kError).bytes(cluster::where() + ": " + e.what()).b);
-    // Rank 0 ends the run (MPI_Abort); wait for it.
-    cluster::receive(0, kToWorker);
-  }
-}
+void cluster_coordinate(ProduceRun& run) { Coordinator(run).run(); }
 
 }  // namespace yarnhom::yarn

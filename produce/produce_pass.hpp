@@ -61,6 +61,21 @@ struct BranchMove {
   std::shared_ptr<const RveState> state;
 };
 
+// One target of a branch round: solved from each source's equilibrium (branch_solve), it moves
+// when one gives an energy below best. These inputs decide its result, bit for bit.
+struct BranchJob {
+  int target = 0;
+  double best = 0;
+  std::vector<int> from;                                 // the sources' node ids, ascending
+  std::vector<std::shared_ptr<const RveState>> states;   // their equilibria (null: none kept)
+};
+// Given the moves of the round so far (known[k] null: job k not finished), the jobs of the next
+// round that no unfinished job can change, as the next round will ask them if none of the
+// unfinished jobs moves (empty when that round cannot follow). Whatever this says, the next
+// round is formed as in one process; a job solved ahead counts only if the round asks exactly
+// it (same target, best and source states).
+using BranchPredict = std::function<std::vector<BranchJob>(const std::vector<const BranchMove*>& known)>;
+
 // A node's checkpoint record, without its state.
 CheckpointRecord record_of(const ProduceNode& n, const std::string& status);
 
@@ -89,10 +104,10 @@ struct ProduceRun {
   // the checkpoint file, which only rank 0 reads and writes.
   std::function<void(const CheckpointRecord&)> node_sink;
   std::map<int, CheckpointRecord> resumed_states;
-  // On rank 0 of an MPI run: a branch round's targets solved on the other ranks, each from its
-  // sources' equilibria, accepted below best[k] (null: on this process's threads).
-  std::function<std::vector<BranchMove>(int round, const std::vector<int>& targets, const std::vector<double>& best,
-                                        const std::vector<std::vector<int>>& from)>
+  // On rank 0 of an MPI run: a branch round's jobs solved on the ranks (null: on this process's
+  // threads), one move per job. While the round runs, `next` tells which jobs of the next
+  // round are already certain to be asked (produce_cluster.cpp solves them ahead).
+  std::function<std::vector<BranchMove>(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next)>
       branch_round;
   std::mutex mu;
   std::chrono::steady_clock::time_point t0;

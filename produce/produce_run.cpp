@@ -19,6 +19,7 @@
 #include "core/file_checks.hpp"
 #include "core/number_list.hpp"
 #include "core/scaled_eigen.hpp"
+#include "numerics/blas_threads.hpp"
 #include "produce/produce.hpp"
 #include "yarn/rod/load_pattern.hpp"
 #include "yarn/rod/material.hpp"
@@ -73,9 +74,13 @@ ProduceOptions produce_options(const ProduceRunOptions& o) {
   opt.terms = parse_term_list(o.terms);
   // On MPI ranks the ranks are the parallelism: one thread each unless --threads says more
   // (every evaluation's sums are added in a fixed order, so the bits do not depend on it).
+  // The BLAS (CHOLMOD's supernodal factorization of a large patch's Newton systems) runs on one
+  // thread too unless OPENBLAS_NUM_THREADS says otherwise: OpenBLAS would start one per core in
+  // every rank (or under every sector's thread) and oversubscribe the cores.
   opt.ranks = cluster::size() > 1;
   opt.threads = o.threads > 0 ? o.threads : opt.ranks ? 1 : omp_get_num_procs();
   if (opt.ranks) omp_set_num_threads(opt.threads);
+  if (!std::getenv("OPENBLAS_NUM_THREADS")) numerics::set_blas_threads(1);
   opt.sectors = o.sectors;
   opt.branch_rounds = o.branch_rounds;
   opt.branch_tolerance = o.branch_tolerance;
@@ -150,6 +155,28 @@ void print_rest(const Dataset& ds, const ProduceReport& rep) {
   }
 }
 
+// On MPI ranks: where each rank's time went (the lead's question: why not N times faster?).
+void print_ranks(const ProduceReport& rep) {
+  if (rep.rank_load.empty()) return;
+  const double np = rep.node_pass_seconds, bp = rep.branch_pass_seconds;
+  auto share = [](double busy, double wall) { return wall > 0 ? 100 * busy / wall : 0.0; };
+  double node = 0, branch = 0, lost = 0;
+  for (const RankLoad& l : rep.rank_load) node += l.node_busy, branch += l.branch_busy, lost += l.ahead_lost;
+  const double n = double(rep.rank_load.size());
+  std::printf("ranks       %zu: node pass %.1f s wall, ranks busy %.0f %%; branch pass %.1f s wall, busy %.0f %% (%.0f %% "
+              "on jobs solved ahead that their round did not ask); %d branch jobs solved ahead of their round, %d used; "
+              "coordinator %.1f s CPU\n",
+              rep.rank_load.size(), np, share(node / n, np), bp, share(branch / n, bp), share(lost / n, bp), rep.ahead_solved,
+              rep.ahead_used, rep.coordinator_cpu_seconds);
+  for (size_t r = 0; r < rep.rank_load.size(); ++r) {
+    const RankLoad& l = rep.rank_load[r];
+    std::printf("  rank %-4zu node pass %4d tasks %8.1f s busy (%3.0f %%), idle %7.1f s; branch pass %5d jobs %8.1f s busy "
+                "(%3.0f %%), idle %7.1f s, %.1f s lost ahead\n",
+                r, l.tasks, l.node_busy, share(l.node_busy, np), std::max(0.0, np - l.node_busy), l.jobs, l.branch_busy,
+                share(l.branch_busy, bp), std::max(0.0, bp - l.branch_busy), l.ahead_lost);
+  }
+}
+
 void print_terms(const ProduceOptions& opt, const ProduceReport& rep, const Pattern& p, const std::string& out) {
   if (rep.resumed)
     std::printf("resumed     %d samples with their equilibrium states from %s%s\n", rep.resumed, opt.checkpoint.c_str(),
@@ -175,6 +202,7 @@ void print_terms(const ProduceOptions& opt, const ProduceReport& rep, const Patt
               opt.branch_tolerance, rep.branch_rounds);
   std::printf("total       %.1f s wall, %.1f s in solves (%.1f s CPU)\n", rep.seconds, rep.solve_seconds,
               rep.solve_cpu_seconds);
+  print_ranks(rep);
   std::printf("topology    every stored node certified: no yarn segment pair within d_min = %.3g x 2r along its "
               "path; closest centrelines %.4g x 2r%s\n",
               RveOptions{}.barrier_dmin, rep.min_separation / (2 * p.radius),
@@ -203,9 +231,8 @@ int run_produce(const ProduceRunOptions& o) {
   }
   add_progress(opt, p.name);
   const std::string start = !opt.warm_start ? "no warm start" : opt.predictor ? "warm start with predictor" : "warm start, no predictor";
-  const std::string where = opt.ranks ? std::to_string(cluster::size()) + " MPI ranks (rank 0 coordinates, " +
-                                            std::to_string(cluster::size() - 1) + " solve, " + std::to_string(opt.threads) +
-                                            " thread(s) each)"
+  const std::string where = opt.ranks ? std::to_string(cluster::size()) + " MPI ranks (each solves, rank 0 also "
+                                            "coordinates; " + std::to_string(opt.threads) + " thread(s) each)"
                                       : std::to_string(opt.threads) + " threads";
   const std::string rve = opt.tiles_x * opt.tiles_y > 1
                               ? ", RVE " + std::to_string(opt.tiles_x) + " x " + std::to_string(opt.tiles_y) + " tiles"

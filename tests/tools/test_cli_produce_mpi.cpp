@@ -7,11 +7,13 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "core/dataset.hpp"
 #include "tests/common/dataset_compare.hpp"
@@ -69,6 +71,27 @@ int rank_of(pid_t pid) {
   return -1;
 }
 
+// From the summary's per-rank line: the first-pass tasks and the branch jobs rank r ran.
+std::pair<int, int> rank_work(const std::string& out, int r) {
+  const std::string key = "  rank " + std::to_string(r) + " ";
+  const size_t at = out.find(key);
+  if (at == std::string::npos) return {-1, -1};
+  int tasks = -1, jobs = -1;
+  const size_t t = out.find("node pass", at), j = out.find("branch pass", at);
+  if (t != std::string::npos) tasks = std::atoi(out.c_str() + t + 9);
+  if (j != std::string::npos) jobs = std::atoi(out.c_str() + j + 11);
+  return {tasks, jobs};
+}
+
+// From the summary: "K branch jobs solved ahead of their round, U used".
+std::pair<int, int> ahead(const std::string& out) {
+  const size_t at = out.find(" branch jobs solved ahead");
+  if (at == std::string::npos) return {-1, -1};
+  size_t b = out.rfind(' ', at - 1) + 1;
+  const size_t u = out.find(", ", at);
+  return {std::atoi(out.c_str() + b), u == std::string::npos ? -1 : std::atoi(out.c_str() + u + 2)};
+}
+
 }  // namespace
 
 TEST(ProduceMpi, RanksWriteTheOneProcessDatasetAndARunWhoseRankDiedResumesWithOtherRanks) {
@@ -87,13 +110,32 @@ TEST(ProduceMpi, RanksWriteTheOneProcessDatasetAndARunWhoseRankDiedResumesWithOt
   ASSERT_EQ(one.status, 0) << one.out;
   const yarnhom::Dataset ref = yarnhom::read_dataset(d + "/one.h5");
 
-  // Three ranks: rank 0 coordinates, two solve.
+  // Three ranks, each solving (rank 0 also coordinates).
   auto three = run_shell(mpirun(3) + produce_args(d + "/three.h5"));
   ASSERT_EQ(three.status, 0) << three.out;
   EXPECT_NE(three.out.find("3 MPI ranks"), std::string::npos) << three.out;
   yarnhom::test::expect_identical(ref, yarnhom::read_dataset(d + "/three.h5"), "3 ranks");
   // The files themselves, byte for byte (no modification times in them: core/h5.cpp).
   EXPECT_TRUE(slurp(d + "/one.h5") == slurp(d + "/three.h5")) << "the files differ";
+
+  // Two ranks: rank 0 coordinates and solves, and the branch rounds overlap (11 rounds here: the
+  // next round's decided jobs are solved while a round's last job runs). The same bytes.
+  const size_t rounds_at = one.out.find(" branch round(s)");
+  ASSERT_NE(rounds_at, std::string::npos) << one.out;
+  EXPECT_GE(std::atoi(one.out.c_str() + one.out.rfind(' ', rounds_at - 1) + 1), 2) << one.out;
+  auto two = run_shell(mpirun(2) + produce_args(d + "/two.h5"));
+  ASSERT_EQ(two.status, 0) << two.out;
+  EXPECT_TRUE(slurp(d + "/one.h5") == slurp(d + "/two.h5")) << "the files differ (2 ranks)\n" << two.out;
+  for (const auto& [out, ranks] : {std::pair{three.out, 3}, std::pair{two.out, 2}}) {
+    const auto [tasks, jobs] = rank_work(out, 0);
+    EXPECT_GT(tasks, 0) << "rank 0 solved no first-pass task on " << ranks << " ranks\n" << out;
+    EXPECT_GT(jobs, 0) << "rank 0 solved no branch job on " << ranks << " ranks\n" << out;
+    EXPECT_GT(rank_work(out, ranks - 1).second, 0) << out;
+    const auto [solved, used] = ahead(out);
+    EXPECT_GT(solved, 0) << "no branch job solved ahead of its round in 11 rounds on " << ranks << " ranks\n" << out;
+    EXPECT_GE(used, 0) << out;
+    EXPECT_LE(used, solved) << out;
+  }
 
   // A rank killed mid-run: mpirun ends the run and names the rank; rank 0's checkpoint holds
   // what was finished, and two ranks take it up to the same dataset.
