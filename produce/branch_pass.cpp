@@ -37,6 +37,20 @@ class BranchPass {
  public:
   explicit BranchPass(ProduceRun& run) : run_(run), opt_(run.opt), nodes_(run.nodes) {}
 
+  // The first round's jobs of the terms whose nodes are all solved (complete[term]): a term's
+  // first round depends on its own nodes only (its edges, its typical edge change, no pairs
+  // tried yet), so these are the very jobs the round will ask.
+  std::vector<BranchJob> first_round(const std::vector<bool>& complete) {
+    grid_neighbours();
+    std::map<int, std::vector<int>> sources = round_sources();
+    for (auto it = sources.begin(); it != sources.end();)
+      it = complete[nodes_[it->first].term] ? std::next(it) : sources.erase(it);
+    load_source_states(sources);
+    std::vector<BranchJob> jobs;
+    for (const auto& [target, from] : sources) jobs.push_back(job(target, from, nodes_[target].psi - min_gain_.at(target)));
+    return jobs;
+  }
+
   void run() {
     grid_neighbours();
     moved_in_resumed_round();
@@ -308,6 +322,11 @@ BranchMove branch_solve(const ProduceRun& run, const Strain& s, double best,
     }
   }
   return mv;
+}
+
+std::vector<BranchJob> first_round_ahead(ProduceRun& run, const std::vector<bool>& complete) {
+  if (!(run.opt.warm_start && run.opt.branch_rounds > 0) || run.rep.branch_rounds > 0) return {};
+  return BranchPass(run).first_round(complete);
 }
 
 void branch_pass(ProduceRun& run) {

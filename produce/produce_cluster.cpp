@@ -62,6 +62,7 @@ class Coordinator {
     branch_pass(run_);
     // Jobs solved ahead for a round that never came: their ranks finish them first.
     while (idle_count() < ranks_) handle(next_message());
+    for (const auto& [target, id] : ahead_) load_[jobs_.at(id).rank].ahead_lost += jobs_.at(id).busy;
     for (int r = 1; r < ranks_; ++r) cluster::send(r, kToWorker, Pack(kStop).b);
     local_.reset();
     ProduceReport& rep = run_.rep;
@@ -129,6 +130,7 @@ class Coordinator {
         break;
       }
       case kReady:
+        --units_out_;
         load_[m.source].node_busy += in.get<double>();
         ++load_[m.source].tasks;
         idle_[m.source] = true;
@@ -151,12 +153,30 @@ class Coordinator {
     }
     run_.final_state.assign(run_.nodes.size(), nullptr);
     make_units();
+    // The terms whose nodes are all solved: their first branch round may start on ranks that the
+    // warm-start trees' last paths leave idle.
+    term_todo_.assign(run_.term_nodes_idx.size(), 0);
+    for (const auto& n : run_.nodes) term_todo_[n.term] += !n.done;
+    terms_changed_ = true;
     for (;;) {
-      for (int r : order_)
-        if (idle_[r] && !ready_.empty()) give_unit(r);
-      if (ready_.empty() && waiting_ == 0 && idle_count() == ranks_) break;
+      for (int r : order_) {
+        if (!idle_[r]) continue;
+        if (!ready_.empty()) {
+          give_unit(r);
+          continue;
+        }
+        if (terms_changed_) {
+          terms_changed_ = false;
+          std::vector<bool> complete(term_todo_.size());
+          for (size_t t = 0; t < term_todo_.size(); ++t) complete[t] = term_todo_[t] == 0;
+          set_later(first_round_ahead(run_, complete));
+        }
+        if (!give_ahead(r)) break;
+      }
+      if (ready_.empty() && waiting_ == 0 && units_out_ == 0) break;
       handle(next_message());
     }
+    later_.clear();
   }
 
   void make_units() {
@@ -247,6 +267,7 @@ class Coordinator {
     for (int id : done_ids) p.put(int32_t(id));
     p.put(uint64_t(records.size()));
     for (const auto& rec : records) p.bytes(rec);
+    ++units_out_;
     post(r, p.b);
   }
 
@@ -271,6 +292,7 @@ class Coordinator {
         run_.final_state[id] = std::make_shared<RveState>(rec.state);
     }
     ++done_;
+    if (--term_todo_.at(n.term) == 0) terms_changed_ = true;
     if (!ok && rec.status == "topology_refused") ++run_.rep.refused;
     if (!ok) ++failed_;
     if (run_.ck) run_.append(rec);
@@ -347,6 +369,25 @@ class Coordinator {
     }
   }
 
+  // The jobs that may be solved ahead of their round, the fewest sources last (handed out first).
+  void set_later(std::vector<BranchJob> jobs) {
+    jobs.erase(std::remove_if(jobs.begin(), jobs.end(), [&](const BranchJob& j) { return ahead_.count(j.target) > 0; }),
+               jobs.end());
+    std::stable_sort(jobs.begin(), jobs.end(),
+                     [](const BranchJob& a, const BranchJob& b) { return a.from.size() < b.from.size(); });
+    later_ = std::move(jobs);
+  }
+
+  bool give_ahead(int r) {
+    if (later_.empty()) return false;
+    const uint64_t id = new_job(later_.back(), Use::kAhead, 0);
+    ahead_[later_.back().target] = id;
+    later_.pop_back();
+    ++ahead_solved_;
+    send_job(r, id);
+    return true;
+  }
+
   std::vector<BranchMove> branch_round(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next) {
     round_ = round;
     round_moves_.assign(jobs.size(), BranchMove{});
@@ -385,7 +426,7 @@ class Coordinator {
     std::stable_sort(queue.begin(), queue.end(),
                      [&](size_t a, size_t b) { return jobs[a].from.size() > jobs[b].from.size(); });
     size_t next_k = 0;
-    std::vector<BranchJob> later;  // the next round's jobs that may be solved ahead
+    later_.clear();
     changed_ = true;
     while (finished_ < int(jobs.size())) {
       for (int r : order_) {
@@ -400,18 +441,9 @@ class Coordinator {
           std::vector<const BranchMove*> known(jobs.size(), nullptr);
           for (size_t k = 0; k < jobs.size(); ++k)
             if (have_[k]) known[k] = &round_moves_[k];
-          later = next(known);
-          later.erase(std::remove_if(later.begin(), later.end(), [&](const BranchJob& j) { return ahead_.count(j.target) > 0; }),
-                      later.end());
-          std::stable_sort(later.begin(), later.end(),
-                           [](const BranchJob& a, const BranchJob& b) { return a.from.size() < b.from.size(); });
+          set_later(next(known));
         }
-        if (later.empty()) break;
-        const uint64_t id = new_job(later.back(), Use::kAhead, 0);
-        ahead_[later.back().target] = id;
-        later.pop_back();
-        ++ahead_solved_;
-        send_job(r, id);
+        if (!give_ahead(r)) break;
       }
       if (finished_ < int(jobs.size())) handle(next_message());
     }
@@ -432,10 +464,14 @@ class Coordinator {
   int waiting_ = 0;
   std::map<int, std::string> solved_records_;       // those nodes' records, with their states
   int total_ = 0, done_ = 0, failed_ = 0;
+  int units_out_ = 0;               // units on the ranks
+  std::vector<int> term_todo_;      // nodes still to solve, by term
+  bool terms_changed_ = false;      // a term's last node came in since the look ahead
   // The branch pass: jobs on the ranks by id, those solved ahead by target, the round running.
   std::map<uint64_t, Job> jobs_;
   uint64_t next_id_ = 0;
   std::map<int, uint64_t> ahead_;
+  std::vector<BranchJob> later_;    // the next round's jobs that may be solved ahead
   int round_ = 0, finished_ = 0, moved_ = 0;
   std::vector<BranchMove> round_moves_;
   std::vector<bool> have_;

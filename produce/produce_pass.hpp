@@ -148,6 +148,10 @@ void solve_task(ProduceRun& run, const SectorTask& task, const std::vector<Eigen
 void first_pass(ProduceRun& run);
 // The branch pass (ProduceOptions::branch_rounds, produce/branch_check.hpp).
 void branch_pass(ProduceRun& run);
+// While the first pass still runs on MPI ranks: the branch pass's first round's jobs of the terms
+// whose nodes are all solved (complete, by term), which that round will ask exactly so (empty
+// when the pass is off or resumed past its first round).
+std::vector<BranchJob> first_round_ahead(ProduceRun& run, const std::vector<bool>& complete);
 // One branch-pass target at strain s: a solve from each source's equilibrium straight to s; the
 // lowest energy below `best` wins.
 BranchMove branch_solve(const ProduceRun& run, const Strain& s, double best,

@@ -155,25 +155,26 @@ void print_rest(const Dataset& ds, const ProduceReport& rep) {
   }
 }
 
-// On MPI ranks: where each rank's time went (the lead's question: why not N times faster?).
+// On MPI ranks: where each rank's time went (why not N times faster?). A rank's busy time is
+// its first-pass tasks' and its branch jobs' (those solved ahead of their round included, some
+// while the first pass still ran); its idle time is the two passes' wall time less that.
 void print_ranks(const ProduceReport& rep) {
   if (rep.rank_load.empty()) return;
-  const double np = rep.node_pass_seconds, bp = rep.branch_pass_seconds;
-  auto share = [](double busy, double wall) { return wall > 0 ? 100 * busy / wall : 0.0; };
+  const double wall = rep.node_pass_seconds + rep.branch_pass_seconds;
+  auto pct = [wall](double s) { return wall > 0 ? 100 * s / wall : 0.0; };
   double node = 0, branch = 0, lost = 0;
   for (const RankLoad& l : rep.rank_load) node += l.node_busy, branch += l.branch_busy, lost += l.ahead_lost;
   const double n = double(rep.rank_load.size());
-  std::printf("ranks       %zu: node pass %.1f s wall, ranks busy %.0f %%; branch pass %.1f s wall, busy %.0f %% (%.0f %% "
-              "on jobs solved ahead that their round did not ask); %d branch jobs solved ahead of their round, %d used; "
-              "coordinator %.1f s CPU\n",
-              rep.rank_load.size(), np, share(node / n, np), bp, share(branch / n, bp), share(lost / n, bp), rep.ahead_solved,
-              rep.ahead_used, rep.coordinator_cpu_seconds);
+  std::printf("ranks       %zu: node pass %.1f s + branch pass %.1f s wall; the ranks busy %.0f %% of it (node tasks %.0f %%, "
+              "branch jobs %.0f %%, of which %.0f %% solved ahead in vain); %d branch jobs solved ahead of their round, "
+              "%d used; coordinator thread %.1f s CPU\n",
+              rep.rank_load.size(), rep.node_pass_seconds, rep.branch_pass_seconds, pct((node + branch) / n), pct(node / n),
+              pct(branch / n), pct(lost / n), rep.ahead_solved, rep.ahead_used, rep.coordinator_cpu_seconds);
   for (size_t r = 0; r < rep.rank_load.size(); ++r) {
     const RankLoad& l = rep.rank_load[r];
-    std::printf("  rank %-4zu node pass %4d tasks %8.1f s busy (%3.0f %%), idle %7.1f s; branch pass %5d jobs %8.1f s busy "
-                "(%3.0f %%), idle %7.1f s, %.1f s lost ahead\n",
-                r, l.tasks, l.node_busy, share(l.node_busy, np), std::max(0.0, np - l.node_busy), l.jobs, l.branch_busy,
-                share(l.branch_busy, bp), std::max(0.0, bp - l.branch_busy), l.ahead_lost);
+    std::printf("  rank %-4zu %4d tasks %8.1f s, %5d branch jobs %8.1f s (%.1f s in vain); busy %3.0f %%, idle %7.1f s\n",
+                r, l.tasks, l.node_busy, l.jobs, l.branch_busy, l.ahead_lost, pct(l.node_busy + l.branch_busy),
+                std::max(0.0, wall - l.node_busy - l.branch_busy));
   }
 }
 

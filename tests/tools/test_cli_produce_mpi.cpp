@@ -77,9 +77,9 @@ std::pair<int, int> rank_work(const std::string& out, int r) {
   const size_t at = out.find(key);
   if (at == std::string::npos) return {-1, -1};
   int tasks = -1, jobs = -1;
-  const size_t t = out.find("node pass", at), j = out.find("branch pass", at);
-  if (t != std::string::npos) tasks = std::atoi(out.c_str() + t + 9);
-  if (j != std::string::npos) jobs = std::atoi(out.c_str() + j + 11);
+  const size_t t = out.find(" tasks", at), j = out.find(" branch jobs", at);
+  if (t != std::string::npos) tasks = std::atoi(out.c_str() + out.rfind(' ', t - 1) + 1);
+  if (j != std::string::npos) jobs = std::atoi(out.c_str() + out.rfind(' ', j - 1) + 1);
   return {tasks, jobs};
 }
 
