@@ -82,9 +82,9 @@ struct Failure {
 // On MPI ranks: where one rank's time went (produce_cluster.cpp), for the summary.
 struct RankLoad {
   double node_busy = 0;     // s solving the first pass's tasks
-  double branch_busy = 0;   // s solving branch jobs, those solved ahead included
+  double branch_busy = 0;   // s solving branch jobs' sources, those solved ahead included
   double ahead_lost = 0;    // of which jobs solved ahead that their round did not ask after all
-  int tasks = 0, jobs = 0;  // first-pass tasks and branch jobs it ran
+  int tasks = 0, jobs = 0;  // first-pass tasks and branch solves (one source of a job) it ran
 };
 struct ProduceReport {
   RestReport rest;

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <numeric>
 #include <set>
@@ -62,7 +63,7 @@ class Coordinator {
     branch_pass(run_);
     // Jobs solved ahead for a round that never came: their ranks finish them first.
     while (idle_count() < ranks_) handle(next_message());
-    for (const auto& [target, id] : ahead_) load_[jobs_.at(id).rank].ahead_lost += jobs_.at(id).busy;
+    for (const auto& [target, id] : ahead_) lose(jobs_.at(id));
     for (int r = 1; r < ranks_; ++r) cluster::send(r, kToWorker, Pack(kStop).b);
     local_.reset();
     ProduceReport& rep = run_.rep;
@@ -84,17 +85,17 @@ class Coordinator {
     std::vector<int> nodes;               // local indices
     int height = 0;                       // nodes to solve on the longest path down from its root
   };
-  // A branch job on a rank: of the round running (k: its index there), solved ahead for the
-  // next one, or no longer wanted (its result is dropped).
+  // A branch job: of the round running (k: its index there), solved ahead for the next one, or
+  // no longer wanted (its parts' results are dropped).
   enum class Use { kRound, kAhead, kDropped };
   struct Job {
     BranchJob in;
     Use use = Use::kRound;
     size_t k = 0;
-    int rank = 0;
-    bool done = false;
-    double busy = 0;
-    BranchMove result;
+    std::vector<BranchMove> part;   // by source
+    std::vector<int> part_rank;     // the rank it went to (-1: none yet)
+    std::vector<double> part_busy;  // its solve's seconds there
+    int left = 0, out = 0;          // parts not finished; parts on the ranks
   };
 
   // ---- messages ----
@@ -308,64 +309,115 @@ class Coordinator {
   }
 
   // ---- the branch pass ----
+  //
+  // A job's sources are solved apart, one part each (a job with four sources would otherwise hold
+  // its rank four solves long while the round waits on it), and combined in the sources' order
+  // as branch_solve does: a part moves when its solve converged, certified, below the job's
+  // threshold; the first part with the lowest energy wins, as the running threshold of one
+  // process picks it.
 
   static bool same_job(const BranchJob& a, const BranchJob& b) {
     return a.target == b.target && std::memcmp(&a.best, &b.best, sizeof a.best) == 0 && a.from == b.from &&
            a.states == b.states;
   }
 
-  void send_job(int r, uint64_t id) {
-    Job& j = jobs_.at(id);
-    j.rank = r;
-    Pack p(kTarget);
-    p.put(id).put(int32_t(j.in.target)).put(j.in.best);
-    std::vector<std::string> records;
-    for (size_t i = 0; i < j.in.from.size(); ++i)
-      if (j.in.states[i])
-        records.push_back(encode_record(state_record(run_.nodes[j.in.from[i]], *j.in.states[i]), run_.rest()));
-    p.put(uint64_t(records.size()));
-    for (const auto& rec : records) p.bytes(rec);
-    post(r, p.b);
-  }
+  using Part = std::pair<uint64_t, int>;  // (job, source)
 
-  uint64_t new_job(const BranchJob& in, Use use, size_t k) {
+  // A job's parts go to `queue` (none for a source without a state: nothing to solve).
+  uint64_t new_job(const BranchJob& in, Use use, size_t k, std::deque<Part>& queue) {
     Job j;
     j.in = in;
     j.use = use;
     j.k = k;
+    const size_t n = in.from.size();
+    if (n > 255) cluster::abort("produce: a branch target with more than 255 sources");
+    j.part.resize(n);
+    j.part_rank.assign(n, -1);
+    j.part_busy.assign(n, 0.0);
+    for (size_t i = 0; i < n; ++i)
+      if (in.states[i]) ++j.left, queue.push_back({next_id_, int(i)});
     jobs_[next_id_] = std::move(j);
     return next_id_++;
   }
 
+  BranchMove combine(const Job& j) const {
+    BranchMove mv;
+    double best = j.in.best;
+    for (const BranchMove& p : j.part) {
+      mv.seconds += p.seconds;
+      mv.cpu_seconds += p.cpu_seconds;
+      mv.iterations += p.iterations;
+      if (p.moved && p.psi < best) {
+        best = p.psi;
+        mv.moved = true;
+        mv.psi = p.psi;
+        mv.grad = p.grad;
+        mv.state = p.state;
+      }
+    }
+    return mv;
+  }
+
+  // The next part still wanted from a queue.
+  bool pop_part(std::deque<Part>& queue, Use use, Part& p) {
+    while (!queue.empty()) {
+      p = queue.front();
+      queue.pop_front();
+      auto it = jobs_.find(p.first);
+      if (it != jobs_.end() && it->second.use == use) return true;
+    }
+    return false;
+  }
+
+  void send_part(int r, const Part& part) {
+    Job& j = jobs_.at(part.first);
+    const int i = part.second;
+    j.part_rank[i] = r;
+    ++j.out;
+    Pack p(kTarget);
+    p.put(uint64_t(part.first << 8 | uint64_t(i))).put(int32_t(j.in.target)).put(j.in.best).put(uint64_t(1));
+    p.bytes(encode_record(state_record(run_.nodes[j.in.from[i]], *j.in.states[i]), run_.rest()));
+    post(r, p.b);
+  }
+
   // A result of the round running lands at its index; the order of the solves changes nothing.
-  void finish(size_t k, BranchMove&& mv) {
-    round_moves_[k] = std::move(mv);
-    have_[k] = true;
+  void finish(uint64_t id) {
+    const Job& j = jobs_.at(id);
+    round_moves_[j.k] = combine(j);
+    have_[j.k] = true;
     ++finished_;
-    moved_ += round_moves_[k].moved;
+    moved_ += round_moves_[j.k].moved;
     changed_ = true;
+    jobs_.erase(id);
     if (run_.opt.branch_progress)
       run_.opt.branch_progress(round_, finished_, int(round_moves_.size()), moved_, run_.elapsed());
   }
 
+  void lose(const Job& j) {
+    for (size_t i = 0; i < j.part.size(); ++i)
+      if (j.part_rank[i] >= 0) load_[j.part_rank[i]].ahead_lost += j.part_busy[i];
+  }
+
   void move_arrived(int source, Unpack& in) {
-    const uint64_t id = in.get<uint64_t>();
+    const uint64_t tag = in.get<uint64_t>(), id = tag >> 8;
+    const int i = int(tag & 255);
     const double busy = in.get<double>();
     auto it = jobs_.find(id);
-    if (it == jobs_.end()) cluster::abort("produce: a branch result from rank " + std::to_string(source) + " for no job");
+    if (it == jobs_.end() || i >= int(it->second.part.size()))
+      cluster::abort("produce: a branch result from rank " + std::to_string(source) + " for no job");
     Job& j = it->second;
     idle_[source] = true;
     load_[source].branch_busy += busy;
     ++load_[source].jobs;
-    j.done = true;
-    j.busy = busy;
-    j.result = move_of(decode_record(in.bytes(), run_.rest()));
-    if (j.use == Use::kRound) {
-      finish(j.k, std::move(j.result));
-      jobs_.erase(it);
+    j.part[i] = move_of(decode_record(in.bytes(), run_.rest()));
+    j.part_busy[i] = busy;
+    --j.out;
+    --j.left;
+    if (j.use == Use::kRound && j.left == 0) {
+      finish(id);
     } else if (j.use == Use::kDropped) {
       load_[source].ahead_lost += busy;
-      jobs_.erase(it);
+      if (j.out == 0) jobs_.erase(it);
     }
   }
 
@@ -379,13 +431,16 @@ class Coordinator {
   }
 
   bool give_ahead(int r) {
-    if (later_.empty()) return false;
-    const uint64_t id = new_job(later_.back(), Use::kAhead, 0);
-    ahead_[later_.back().target] = id;
-    later_.pop_back();
-    ++ahead_solved_;
-    send_job(r, id);
-    return true;
+    for (Part p;;) {
+      if (pop_part(ahead_parts_, Use::kAhead, p)) {
+        send_part(r, p);
+        return true;
+      }
+      if (later_.empty()) return false;
+      ahead_[later_.back().target] = new_job(later_.back(), Use::kAhead, 0, ahead_parts_);
+      later_.pop_back();
+      ++ahead_solved_;
+    }
   }
 
   std::vector<BranchMove> branch_round(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next) {
@@ -395,6 +450,7 @@ class Coordinator {
     finished_ = moved_ = 0;
     // Jobs solved (or being solved) ahead: taken where this round asks exactly them.
     std::vector<size_t> queue;
+    std::vector<uint64_t> complete;
     for (size_t k = 0; k < jobs.size(); ++k) {
       auto a = ahead_.find(jobs[k].target);
       if (a != ahead_.end() && same_job(jobs_.at(a->second).in, jobs[k])) {
@@ -402,38 +458,39 @@ class Coordinator {
         ++ahead_used_;
         j.use = Use::kRound;
         j.k = k;
-        if (j.done) {
-          finish(k, std::move(j.result));
-          jobs_.erase(a->second);
-        }
+        if (j.left == 0) complete.push_back(a->second);
         ahead_.erase(a);
       } else {
         queue.push_back(k);
       }
     }
+    for (uint64_t id : complete) finish(id);
     for (const auto& [target, id] : ahead_) {
       Job& j = jobs_.at(id);
-      if (!j.done) {
-        j.use = Use::kDropped;
-        continue;
-      }
-      load_[j.rank].ahead_lost += j.busy;
-      jobs_.erase(id);
+      j.use = Use::kDropped;
+      lose(j);
+      if (j.out == 0) jobs_.erase(id);
     }
     ahead_.clear();
-    // The jobs with the most sources (one solve each) first, so that the round does not wait on
-    // a long one handed out last.
+    // The parts of the adopted jobs not handed out yet come first in this round's queue.
+    round_parts_.clear();
+    for (Part p; pop_part(ahead_parts_, Use::kRound, p);) round_parts_.push_back(p);
+    ahead_parts_.clear();
+    // Then the jobs with the most sources first, so that the round does not end on one of them.
     std::stable_sort(queue.begin(), queue.end(),
                      [&](size_t a, size_t b) { return jobs[a].from.size() > jobs[b].from.size(); });
-    size_t next_k = 0;
+    for (size_t k : queue) {
+      const uint64_t id = new_job(jobs[k], Use::kRound, k, round_parts_);
+      if (jobs_.at(id).left == 0) finish(id);
+    }
     later_.clear();
     changed_ = true;
     while (finished_ < int(jobs.size())) {
       for (int r : order_) {
         if (!idle_[r]) continue;
-        if (next_k < queue.size()) {
-          send_job(r, new_job(jobs[queue[next_k]], Use::kRound, queue[next_k]));
-          ++next_k;
+        Part p;
+        if (pop_part(round_parts_, Use::kRound, p) || pop_part(ahead_parts_, Use::kAhead, p)) {
+          send_part(r, p);
           continue;
         }
         if (changed_) {  // what the finished jobs decide of the next round, anew
@@ -472,6 +529,7 @@ class Coordinator {
   uint64_t next_id_ = 0;
   std::map<int, uint64_t> ahead_;
   std::vector<BranchJob> later_;    // the next round's jobs that may be solved ahead
+  std::deque<Part> round_parts_, ahead_parts_;  // parts to hand out
   int round_ = 0, finished_ = 0, moved_ = 0;
   std::vector<BranchMove> round_moves_;
   std::vector<bool> have_;

@@ -71,13 +71,13 @@ int rank_of(pid_t pid) {
   return -1;
 }
 
-// From the summary's per-rank line: the first-pass tasks and the branch jobs rank r ran.
+// From the summary's per-rank line: the first-pass tasks and the branch solves rank r ran.
 std::pair<int, int> rank_work(const std::string& out, int r) {
   const std::string key = "  rank " + std::to_string(r) + " ";
   const size_t at = out.find(key);
   if (at == std::string::npos) return {-1, -1};
   int tasks = -1, jobs = -1;
-  const size_t t = out.find(" tasks", at), j = out.find(" branch jobs", at);
+  const size_t t = out.find(" tasks", at), j = out.find(" branch solves", at);
   if (t != std::string::npos) tasks = std::atoi(out.c_str() + out.rfind(' ', t - 1) + 1);
   if (j != std::string::npos) jobs = std::atoi(out.c_str() + out.rfind(' ', j - 1) + 1);
   return {tasks, jobs};
@@ -129,7 +129,7 @@ TEST(ProduceMpi, RanksWriteTheOneProcessDatasetAndARunWhoseRankDiedResumesWithOt
   for (const auto& [out, ranks] : {std::pair{three.out, 3}, std::pair{two.out, 2}}) {
     const auto [tasks, jobs] = rank_work(out, 0);
     EXPECT_GT(tasks, 0) << "rank 0 solved no first-pass task on " << ranks << " ranks\n" << out;
-    EXPECT_GT(jobs, 0) << "rank 0 solved no branch job on " << ranks << " ranks\n" << out;
+    EXPECT_GT(jobs, 0) << "rank 0 solved no branch source on " << ranks << " ranks\n" << out;
     EXPECT_GT(rank_work(out, ranks - 1).second, 0) << out;
     const auto [solved, used] = ahead(out);
     EXPECT_GT(solved, 0) << "no branch job solved ahead of its round in 11 rounds on " << ranks << " ranks\n" << out;
