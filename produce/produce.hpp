@@ -109,6 +109,9 @@ struct ProduceReport {
   // (docs/produce.md, "On a cluster").
   std::vector<RankLoad> rank_load;
   double node_pass_seconds = 0, branch_pass_seconds = 0, coordinator_cpu_seconds = 0;
+  // The bounds that more ranks do not lower: the first pass's longest chain of warm starts (its
+  // solves' seconds), and the sum over the branch rounds of each one's longest single solve.
+  double node_critical_seconds = 0, branch_critical_seconds = 0;
   int ahead_solved = 0, ahead_used = 0;
 };
 

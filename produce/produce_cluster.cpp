@@ -178,6 +178,15 @@ class Coordinator {
       handle(next_message());
     }
     later_.clear();
+    // The longest chain of warm starts: no number of ranks makes the first pass shorter.
+    for (const SectorTask& task : tasks_) {
+      std::vector<double> path(task.nodes.size(), 0.0);
+      for (int li : task.plan.order) {
+        const int p = task.plan.parent[li];
+        path[li] = run_.nodes[task.nodes[li]].seconds + (p >= 0 ? path[p] : 0.0);
+        run_.rep.node_critical_seconds = std::max(run_.rep.node_critical_seconds, path[li]);
+      }
+    }
   }
 
   void make_units() {
@@ -411,6 +420,7 @@ class Coordinator {
     ++load_[source].jobs;
     j.part[i] = move_of(decode_record(in.bytes(), run_.rest()));
     j.part_busy[i] = busy;
+    if (j.use == Use::kRound) round_longest_ = std::max(round_longest_, busy);
     --j.out;
     --j.left;
     if (j.use == Use::kRound && j.left == 0) {
@@ -445,6 +455,7 @@ class Coordinator {
 
   std::vector<BranchMove> branch_round(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next) {
     round_ = round;
+    round_longest_ = 0;
     round_moves_.assign(jobs.size(), BranchMove{});
     have_.assign(jobs.size(), false);
     finished_ = moved_ = 0;
@@ -456,6 +467,7 @@ class Coordinator {
       if (a != ahead_.end() && same_job(jobs_.at(a->second).in, jobs[k])) {
         Job& j = jobs_.at(a->second);
         ++ahead_used_;
+        for (double b : j.part_busy) round_longest_ = std::max(round_longest_, b);
         j.use = Use::kRound;
         j.k = k;
         if (j.left == 0) complete.push_back(a->second);
@@ -493,17 +505,23 @@ class Coordinator {
           send_part(r, p);
           continue;
         }
-        if (changed_) {  // what the finished jobs decide of the next round, anew
+        // What the finished jobs decide of the next round, anew once those decided before are
+        // handed out, and not more than a fifth of the time (each look costs some milliseconds
+        // at the paper preset, while the other ranks' results wait).
+        if (changed_ && later_.empty() && run_.elapsed() >= next_look_) {
           changed_ = false;
           std::vector<const BranchMove*> known(jobs.size(), nullptr);
           for (size_t k = 0; k < jobs.size(); ++k)
             if (have_[k]) known[k] = &round_moves_[k];
+          const double t0 = run_.elapsed();
           set_later(next(known));
+          next_look_ = run_.elapsed() + 4 * (run_.elapsed() - t0);
         }
         if (!give_ahead(r)) break;
       }
       if (finished_ < int(jobs.size())) handle(next_message());
     }
+    run_.rep.branch_critical_seconds += round_longest_;
     return round_moves_;
   }
 
@@ -531,9 +549,11 @@ class Coordinator {
   std::vector<BranchJob> later_;    // the next round's jobs that may be solved ahead
   std::deque<Part> round_parts_, ahead_parts_;  // parts to hand out
   int round_ = 0, finished_ = 0, moved_ = 0;
+  double round_longest_ = 0;  // the round's longest solve (of one source)
   std::vector<BranchMove> round_moves_;
   std::vector<bool> have_;
   bool changed_ = false;  // a result came in since the look ahead
+  double next_look_ = 0;  // the earliest time of the next look ahead (run.elapsed())
   int ahead_solved_ = 0, ahead_used_ = 0;
 };
 

@@ -165,11 +165,13 @@ void print_ranks(const ProduceReport& rep) {
   double node = 0, branch = 0, lost = 0;
   for (const RankLoad& l : rep.rank_load) node += l.node_busy, branch += l.branch_busy, lost += l.ahead_lost;
   const double n = double(rep.rank_load.size());
-  std::printf("ranks       %zu: node pass %.1f s + branch pass %.1f s wall; the ranks busy %.0f %% of it (node tasks %.0f %%, "
+  std::printf("ranks       %zu: node pass %.1f s + branch pass %.1f s wall (bounds whatever the ranks: the longest chain "
+              "of warm starts %.1f s, the rounds' longest solves %.1f s); the ranks busy %.0f %% of it (node tasks %.0f %%, "
               "branch solves %.0f %%, of which %.0f %% solved ahead in vain); %d branch jobs solved ahead of their round, "
               "%d used; coordinator thread %.1f s CPU\n",
-              rep.rank_load.size(), rep.node_pass_seconds, rep.branch_pass_seconds, pct((node + branch) / n), pct(node / n),
-              pct(branch / n), pct(lost / n), rep.ahead_solved, rep.ahead_used, rep.coordinator_cpu_seconds);
+              rep.rank_load.size(), rep.node_pass_seconds, rep.branch_pass_seconds, rep.node_critical_seconds,
+              rep.branch_critical_seconds, pct((node + branch) / n), pct(node / n), pct(branch / n), pct(lost / n),
+              rep.ahead_solved, rep.ahead_used, rep.coordinator_cpu_seconds);
   for (size_t r = 0; r < rep.rank_load.size(); ++r) {
     const RankLoad& l = rep.rank_load[r];
     std::printf("  rank %-4zu %4d tasks %8.1f s, %5d branch solves %8.1f s (%.1f s in vain); busy %3.0f %%, idle %7.1f s\n",
