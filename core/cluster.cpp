@@ -20,7 +20,7 @@ namespace yarnhom::cluster {
 namespace {
 
 [[maybe_unused]] bool g_active = false;  // MPI initialized by init() (only in a build with MPI)
-int g_rank = 0, g_size = 1;
+int g_rank = 0, g_size = 1, g_node_size = 1;
 
 // mpirun (Open MPI), mpiexec (MPICH, Hydra) and srun (Slurm's PMI) each set one of these.
 bool started_by_mpirun() {
@@ -40,6 +40,10 @@ void init(int* argc, char*** argv) {
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  MPI_Comm node;  // the ranks that share this one's memory: its node
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &g_node_size);
+  MPI_Comm_free(&node);
   g_active = true;
   // The launcher's variables were read by MPI_Init; a child process of this rank (a stage of
   // pipeline or accuracy, a plot script) must not take itself for a rank of this run.
@@ -146,6 +150,7 @@ void abort(const std::string& why, int code) {
 
 int rank() { return g_rank; }
 int size() { return g_size; }
+int node_size() { return g_node_size; }
 std::string where() { return "rank " + std::to_string(g_rank) + " on " + host(); }
 
 }  // namespace yarnhom::cluster

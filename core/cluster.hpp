@@ -4,8 +4,8 @@
 // OFF, like CUDA); without it, or when the program was not started by mpirun, the run is one
 // process: size() is 1 and nothing here sends anything.
 //
-// Only `produce` (and the studies that run its rows on ranks) use more than one rank
-// (docs/produce.md, "On a cluster"). MPI is initialized by main() only when the environment says
+// Only `produce`, `accuracy` and the accuracy studies use more than one rank (docs/produce.md,
+// "On a cluster"). MPI is initialized by main() only when the environment says
 // that mpirun started the process, so a plain `yarnhom ...` never touches MPI.
 #include <string>
 
@@ -21,6 +21,7 @@ void finalize();
 
 int rank();  // 0 when not under MPI
 int size();  // 1 when not under MPI
+int node_size();  // the ranks on this rank's node (1 when not under MPI)
 std::string host();  // this rank's node name
 // "rank R on HOST" (for messages).
 std::string where();

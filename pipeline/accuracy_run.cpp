@@ -15,6 +15,7 @@
 #include "core/number_list.hpp"
 #include "core/text_file.hpp"
 #include "io/csv_columns.hpp"
+#include "pipeline/rank_tasks.hpp"
 #include "pipeline/stage_runner.hpp"
 
 namespace yarnhom::pipeline {
@@ -82,7 +83,8 @@ bool read_force(const std::string& path, std::vector<double>& stretch, std::vect
   return t.count("tension_load_N_per_m") > 0;
 }
 
-// The test's stages, run in order; the seconds of those that ran go to r.stage_seconds.
+// The test's stages, run in order (or as tasks on ranks, add_accuracy_tasks); the seconds of
+// those that ran go to r.stage_seconds.
 class AccuracyStages {
  public:
   AccuracyStages(const AccuracyOptions& o, AccuracyResult& r)
@@ -92,26 +94,41 @@ class AccuracyStages {
   }
 
   const fs::path& strip_dir() const { return strip_dir_; }
+  std::string dataset() const { return o_.dataset.empty() ? (mdir_ / "dataset.h5").string() : o_.dataset; }
+  std::string neural() const { return o_.baked.empty() ? (mdir_ / "neural.h5").string() : o_.baked; }
+  std::string spline() const { return (mdir_ / "spline.h5").string(); }
+  // A stage's record: what names it among the tasks of a study.
+  std::string record(const std::string& stage) const {
+    const fs::path d = stage == "strip" ? strip_dir_.parent_path() : stage.rfind("sim-", 0) == 0 ? dir_ : mdir_;
+    return (d / ".stages" / (stage == "strip" ? strip_name() : stage)).string();
+  }
 
   // The dataset, the neural material and the spline baseline. Stages that make materials keep
   // their records beside them, so that several tests share them.
   void materials() {
-    fs::create_directories(mdir_);
-    const std::string ds = o_.dataset.empty() ? (mdir_ / "dataset.h5").string() : o_.dataset;
-    if (o_.dataset.empty()) stage(mdir_, {"produce", produce_stage_args(o_.pattern, ds, o_.preset, o_.threads), pattern_in_, {ds}});
-    std::string neural = o_.baked;
-    if (neural.empty()) {
-      const std::string model = (mdir_ / "model.h5").string();
-      neural = (mdir_ / "neural.h5").string();
-      stage(mdir_, {"train-all", train_stage_args(ds, model, o_.threads, o_.epochs), {ds}, {model}});
-      stage(mdir_, {"bake", {"bake", model, "-o", neural, "--data", ds}, {model, ds}, {neural}});
-    }
-    r_.materials.push_back({"neural", neural, {}, {}, {}, {}});
+    produce();
+    train_and_bake();
+    r_.materials.push_back({"neural", neural(), {}, {}, {}, {}});
     if (o_.spline) {
-      const std::string spline = (mdir_ / "spline.h5").string();
-      stage(mdir_, {"fit-splines", {"fit-splines", ds, "-o", spline}, {ds}, {spline}});
-      r_.materials.push_back({"spline", spline, {}, {}, {}, {}});
+      fit_splines();
+      r_.materials.push_back({"spline", spline(), {}, {}, {}, {}});
     }
+  }
+  void produce() {
+    fs::create_directories(mdir_);
+    if (o_.dataset.empty())
+      stage(mdir_, {"produce", produce_stage_args(o_.pattern, dataset(), o_.preset, o_.threads), pattern_in_, {dataset()}});
+  }
+  void train_and_bake() {
+    if (!o_.baked.empty()) return;
+    fs::create_directories(mdir_);
+    const std::string ds = dataset(), model = (mdir_ / "model.h5").string();
+    stage(mdir_, {"train-all", train_stage_args(ds, model, o_.threads, o_.epochs), {ds}, {model}});
+    stage(mdir_, {"bake", {"bake", model, "-o", neural(), "--data", ds}, {model, ds}, {neural()}});
+  }
+  void fit_splines() {
+    fs::create_directories(mdir_);
+    stage(mdir_, {"fit-splines", {"fit-splines", dataset(), "-o", spline()}, {dataset()}, {spline()}});
   }
 
   // The yarn strip; its record lives beside the strip, so that tests sharing it run it once.
@@ -119,7 +136,7 @@ class AccuracyStages {
     std::vector<std::string> a = {"strip", o_.pattern, "--size", o_.size, "--direction", o_.direction,
                                   "--stretch", o_.stretch, "-o", strip_dir_.string()};
     for (const auto& x : split_spaces(o_.strip_args)) a.push_back(x);
-    const StageSpec s = {"strip-" + strip_dir_.filename().string(), a, pattern_in_, {(strip_dir_ / "force.csv").string()}};
+    const StageSpec s = {strip_name(), a, pattern_in_, {(strip_dir_ / "force.csv").string()}};
     const StageOutcome out = run_stage(strip_dir_.parent_path(), s, o_.force);
     if (out.ran) r_.stage_seconds.emplace_back("strip", out.seconds);
   }
@@ -127,35 +144,50 @@ class AccuracyStages {
   // sim stretch: a continuum strip of the yarn strip's size and clamp bands (its settings.txt
   // says which band it used), stretched through the same ratios.
   void continuum_strips() {
+    const std::vector<double> ratios = parse_stretch_range(o_.stretch);
+    if (ratios.size() < 2 || std::abs(ratios.front() - 1.0) > 1e-9)
+      throw std::invalid_argument("--stretch " + o_.stretch + ": the test starts at the relaxed 100 %; give 1.0:LAST:STEP");
+    for (MaterialResult& m : r_.materials) m.failure = sim(m.name, m.baked);
+  }
+  // One material's continuum strip; "" or why the baseline's stopped. The neural material is
+  // what is tested: its failure fails the command. The baseline's is a result (HYLC-style linear
+  // extrapolation can fall outward and run away): recorded, and its metrics cover the tests its
+  // strip reached.
+  std::string sim(const std::string& name, const std::string& baked) {
     std::string clamp = "0.005";
     {
       std::ifstream st(strip_dir_ / "settings.txt");
       for (std::string line; std::getline(st, line);)
         if (line.rfind("clamp = ", 0) == 0) clamp = line.substr(8);
     }
-    const std::vector<double> ratios = parse_stretch_range(o_.stretch);
-    if (ratios.size() < 2 || std::abs(ratios.front() - 1.0) > 1e-9)
-      throw std::invalid_argument("--stretch " + o_.stretch + ": the test starts at the relaxed 100 %; give 1.0:LAST:STEP");
-    for (MaterialResult& m : r_.materials) {
-      const fs::path sd = dir_ / ("sim_" + m.name);
-      std::vector<std::string> a = {"sim", "stretch", "-o", sd.string(), "--material", m.baked, "--direction", o_.direction,
-                                    "--size", o_.size, "--stretch", o_.stretch, "--clamp", clamp, "-q"};
-      for (const auto& x : split_spaces(o_.sim_args)) a.push_back(x);
-      // The neural material is what is tested: its failure fails the command. The baseline's is a
-      // result (HYLC-style linear extrapolation can fall outward and run away): recorded, and its
-      // metrics cover the tests its strip reached.
-      try {
-        stage(dir_, {"sim-" + m.name, a, {m.baked}, {(sd / "stretch.csv").string()}});
-      } catch (const std::runtime_error& e) {
-        if (m.name == "neural") throw;
-        m.failure = e.what();
-        std::fprintf(stderr, "yarnhom accuracy: the %s baseline's continuum strip stopped early; its metrics cover the tests it "
-                     "reached\n", m.name.c_str());
-      }
+    const fs::path sd = dir_ / ("sim_" + name);
+    std::vector<std::string> a = {"sim", "stretch", "-o", sd.string(), "--material", baked, "--direction", o_.direction,
+                                  "--size", o_.size, "--stretch", o_.stretch, "--clamp", clamp, "-q"};
+    for (const auto& x : split_spaces(o_.sim_args)) a.push_back(x);
+    // A baseline's stop is remembered for the rest of this run (rank 0's single pass after the
+    // ranks' tasks does not run it again); a later run tries again.
+    const std::string stopped = (dir_ / ".stages" / ("sim-" + name + ".stopped")).string(), id = stage_run_id() + "\n";
+    std::string why;
+    if (name != "neural") {
+      std::ifstream in(stopped);
+      std::getline(in, why, '\0');
+      why = why.rfind(id, 0) == 0 ? why.substr(id.size()) : "";
     }
+    try {
+      if (why.empty()) stage(dir_, {"sim-" + name, a, {baked}, {(sd / "stretch.csv").string()}});
+    } catch (const std::runtime_error& e) {
+      if (name == "neural") throw;
+      why = e.what();
+      write_text_file(stopped, id + why);
+    }
+    if (!why.empty())
+      std::fprintf(stderr, "yarnhom accuracy: the %s baseline's continuum strip stopped early; its metrics cover the tests it "
+                   "reached\n", name.c_str());
+    return why;
   }
 
  private:
+  std::string strip_name() const { return "strip-" + strip_dir_.filename().string(); }
   void stage(const fs::path& dir, const StageSpec& s) {
     const StageOutcome out = run_stage(dir, s, o_.force);
     if (out.ran) r_.stage_seconds.emplace_back(s.name, out.seconds);
@@ -278,8 +310,7 @@ void check_accuracy_options(const AccuracyOptions& o) {
   }
 }
 
-AccuracyResult run_accuracy(const AccuracyOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
+AccuracyResult run_accuracy(const AccuracyOptions& o, std::chrono::steady_clock::time_point t0) {
   fs::create_directories(o.out);
   AccuracyResult r;
   AccuracyStages stages(o, r);
@@ -293,6 +324,55 @@ AccuracyResult run_accuracy(const AccuracyOptions& o) {
   return r;
 }
 
+double produce_task_weight(const std::string& preset, int tiles) {
+  // An n x n patch's solves cost 13-27x one tile's at n = 2 (docs/produce.md).
+  return 100 * (preset == "paper" ? 1.0 : preset == "quick" ? 0.1 : 0.01) * (tiles > 1 ? 5.0 * tiles * tiles : 1.0);
+}
+
+namespace {
+
+double strip_weight(const AccuracyOptions& o) {
+  double w = 0.05, l = 0.10;
+  if (std::sscanf(o.size.c_str(), "%lf,%lf", &w, &l) != 2) w = 0.05, l = 0.10;
+  const double steps = double(parse_stretch_range(o.stretch).size());
+  return std::max(0.1, w * l / 0.005) * steps / 15;
+}
+
+}  // namespace
+
+void add_accuracy_tasks(RankTasks& g, const AccuracyOptions& o, const std::string& label, const std::vector<int>& after) {
+  AccuracyResult none;
+  const AccuracyStages s(o, none);
+  // Each task makes its own stages object from its copy of the options.
+  auto task = [o](void (*piece)(AccuracyStages&)) {
+    return [o, piece] {
+      AccuracyResult r;
+      AccuracyStages st(o, r);
+      piece(st);
+    };
+  };
+  const double steps = double(parse_stretch_range(o.stretch).size()) / 15;
+  const int strip = g.add(s.record("strip"), label + ": yarn strip " + o.size + " m", 40 * strip_weight(o), {},
+                          task([](AccuracyStages& st) { st.strip(); }));
+  std::vector<int> before = after;
+  if (o.dataset.empty())
+    before.push_back(g.add(s.record("produce"), label + ": produce (" + o.preset + ")", produce_task_weight(o.preset), after,
+                           task([](AccuracyStages& st) { st.produce(); })));
+  std::vector<int> neural = before, spline = before;
+  if (o.baked.empty())
+    neural.push_back(g.add(s.record("train-all"), label + ": train-all, bake", 10, before,
+                           task([](AccuracyStages& st) { st.train_and_bake(); })));
+  neural.push_back(strip);
+  g.add(s.record("sim-neural"), label + ": sim stretch, neural", 3 * steps, neural,
+        task([](AccuracyStages& st) { st.sim("neural", st.neural()); }));
+  if (!o.spline) return;
+  spline.push_back(g.add(s.record("fit-splines"), label + ": fit-splines", 1, before,
+                         task([](AccuracyStages& st) { st.fit_splines(); })));
+  spline.push_back(strip);
+  g.add(s.record("sim-spline"), label + ": sim stretch, spline", 3 * steps, spline,
+        task([](AccuracyStages& st) { st.sim("spline", st.spline()); }));
+}
+
 void run_accuracy_command(const AccuracyOptions& o, const std::vector<std::string>& commands) {
   check_output_folder(o.out);
   for (const char* need : {"produce", "strip", "sim"}) {
@@ -301,7 +381,13 @@ void run_accuracy_command(const AccuracyOptions& o, const std::vector<std::strin
       throw std::invalid_argument(std::string("this build has no '") + need +
                                   "' command, which the accuracy test needs (docs/accuracy.md)");
   }
-  const AccuracyResult r = run_accuracy(o);
+  // On several ranks (pipeline/rank_tasks.hpp): the yarn strip, the materials and the continuum
+  // strips as tasks, then rank 0 alone measures and writes.
+  const auto t0 = std::chrono::steady_clock::now();
+  const OnRanks ranks(o.out, "accuracy", [&](RankTasks& g) { add_accuracy_tasks(g, o, fs::path(o.pattern).stem().string() + ", " + o.direction);
+  });
+  if (!ranks.root()) return;
+  const AccuracyResult r = run_accuracy(o, t0);
   std::printf("%s", accuracy_report_text(r, o).c_str());
 }
 

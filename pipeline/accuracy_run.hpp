@@ -5,6 +5,7 @@
 // and per stretch the stress difference and the Hausdorff distance. Every stage is a subcommand
 // of this program run as a child process with its log, cached and resumable
 // (pipeline/stage_runner.hpp); the metrics are computed here.
+#include <chrono>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,8 +52,9 @@ struct AccuracyResult {
 // stages' options are checked by the commands' own parsers (tools/cli/accuracy_options.hpp).
 void check_accuracy_options(const AccuracyOptions& o);
 
-// Runs (or resumes) the test into o.out: accuracy.csv and accuracy.md.
-AccuracyResult run_accuracy(const AccuracyOptions& o);
+// Runs (or resumes) the test into o.out: accuracy.csv and accuracy.md (its total time counted
+// from t0).
+AccuracyResult run_accuracy(const AccuracyOptions& o, std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now());
 std::string accuracy_report_text(const AccuracyResult& r, const AccuracyOptions& o);
 
 // `yarnhom accuracy`: refuses a build without the commands the test needs (`commands`: those
@@ -64,5 +66,15 @@ void run_accuracy_command(const AccuracyOptions& o, const std::vector<std::strin
 std::vector<std::string> produce_stage_args(const std::string& pattern, const std::string& dataset,
                                             const std::string& preset, int threads);
 std::vector<std::string> train_stage_args(const std::string& dataset, const std::string& model, int threads, int epochs);
+
+// The test's pieces as tasks for the ranks of an mpirun (pipeline/rank_tasks.hpp): the yarn
+// strip; produce; train-all and bake; fit-splines; each continuum strip once its material and
+// the yarn strip are done. Tasks the study shares (the same stage record) are added once.
+// `after`: tasks that make the dataset or baked file the options name. `label` begins each
+// task's progress line.
+class RankTasks;
+void add_accuracy_tasks(RankTasks& g, const AccuracyOptions& o, const std::string& label, const std::vector<int>& after = {});
+// A produce task's weight among the tasks (an n x n patch's: `tiles` = n).
+double produce_task_weight(const std::string& preset, int tiles = 1);
 
 }  // namespace yarnhom::pipeline

@@ -1,5 +1,7 @@
 #include "pipeline/stage_runner.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/ioctl.h>
 #include <unistd.h>
 
@@ -11,8 +13,10 @@
 #include <fstream>
 #include <functional>
 #include <stdexcept>
+#include <thread>
 
 #include "core/console.hpp"
+#include "core/text_file.hpp"
 #include "pipeline/child_process.hpp"
 #include "pipeline/pipeline_stage.hpp"
 
@@ -35,6 +39,55 @@ void add_count_option(std::vector<std::string>& args, const char* flag, int valu
 }
 
 namespace {
+
+std::string g_run_id;
+std::function<void()> g_wait_hook;
+
+std::string read_small_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s;
+  std::getline(in, s, '\0');
+  return s;
+}
+
+// DIR/.stages/<name>.lock held for the lifetime of the object (released by close, or by the
+// kernel when the process dies). Waits for another holder, saying who it is, and writes its own
+// name into the file for the next one.
+class StageLock {
+ public:
+  StageLock(const fs::path& path, const std::string& name, int width) {
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw std::runtime_error("cannot open the stage lock " + path.string() + ": " + std::strerror(errno));
+    bool said = false;
+    while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      if (errno != EWOULDBLOCK && errno != EINTR)
+        throw std::runtime_error("cannot lock " + path.string() + ": " + std::strerror(errno));
+      if (!said) {
+        std::printf("  %-*s waiting for %s, which runs it ...\n", width, name.c_str(), holder(path).c_str());
+        std::fflush(stdout);
+        said = true;
+      }
+      if (g_wait_hook) g_wait_hook();
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+    char host[256] = {0};
+    ::gethostname(host, sizeof host - 1);
+    const std::string me = "process " + std::to_string(::getpid()) + " on " + host;
+    if (::ftruncate(fd_, 0) == 0) {
+      [[maybe_unused]] const ssize_t w = ::pwrite(fd_, me.data(), me.size(), 0);  // for the message of one that waits
+    }
+  }
+  ~StageLock() { ::close(fd_); }
+  StageLock(const StageLock&) = delete;
+  StageLock& operator=(const StageLock&) = delete;
+
+ private:
+  static std::string holder(const fs::path& path) {
+    const std::string h = read_small_file(path.string());
+    return h.empty() ? "another process" : h;
+  }
+  int fd_ = -1;
+};
 
 // The child's latest progress line in its log (the last piece, between '\r' or '\n', that
 // says "ETA" or "elapsed"), "" when there is none yet.
@@ -66,18 +119,34 @@ int terminal_columns() {
 
 }  // namespace
 
+std::string stage_run_id() {
+  if (g_run_id.empty()) {
+    char host[256] = {0};
+    ::gethostname(host, sizeof host - 1);
+    g_run_id = std::string(host) + ":" + std::to_string(::getpid()) + ":" +
+               std::to_string(std::chrono::system_clock::now().time_since_epoch().count());
+  }
+  return g_run_id;
+}
+
+void set_stage_run_id(const std::string& id) { g_run_id = id; }
+
+void set_stage_wait_hook(std::function<void()> hook) { g_wait_hook = std::move(hook); }
+
 StageOutcome run_stage_child(const fs::path& dir, const StageSpec& s, bool force, int width) {
   fs::create_directories(dir / "logs");
   fs::create_directories(dir / ".stages");
+  const StageLock lock(dir / ".stages" / (s.name + ".lock"), s.name, width);
   std::string settings;
   for (const std::string& a : s.args) settings += a + "\n";
   const std::string stamp = (dir / ".stages" / (s.name + ".done")).string();
+  const std::string forced = (dir / ".stages" / (s.name + ".forced")).string();
   StageDecision d = stage_decision(s.inputs, s.outputs, stamp, settings);
-  if (force) d = {true, "--force"};
+  if (force && (d.run || read_small_file(forced) != stage_run_id())) d = {true, "--force"};
   StageOutcome out;
   out.log = (dir / "logs" / (s.name + ".log")).string();
   if (!d.run) {
-    std::printf("  %-*s skipped (up to date)\n", width, s.name.c_str());
+    std::printf("  %-*s skipped (up to date%s)\n", width, s.name.c_str(), force ? ", forced earlier in this run" : "");
     return out;
   }
   char head[400];
@@ -91,7 +160,7 @@ StageOutcome run_stage_child(const fs::path& dir, const StageSpec& s, bool force
   // redrawn in place; in a file or a pipe the output stays as it was.
   const bool tty = ::isatty(STDOUT_FILENO) == 1;
   bool shown = false;
-  std::function<void()> relay;
+  std::function<void()> relay, tick;
   char short_head[80];
   std::snprintf(short_head, sizeof short_head, "  %-*s ", width, s.name.c_str());
   if (tty) {
@@ -107,12 +176,18 @@ StageOutcome run_stage_child(const fs::path& dir, const StageSpec& s, bool force
       shown = true;
     };
   }
-  out.status = run_child(argv, s.stdout_file.empty() ? out.log : s.stdout_file, out.log, relay);
+  if (relay || g_wait_hook)
+    tick = [&] {
+      if (relay) relay();
+      if (g_wait_hook) g_wait_hook();
+    };
+  out.status = run_child(argv, s.stdout_file.empty() ? out.log : s.stdout_file, out.log, tick);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.ran = true;
   if (shown) std::printf("\r%s\x1b[K", head);  // the caller or the line below ends it
   if (out.status != 0) return out;
   write_stage_stamp(stamp, settings);
+  if (force) write_text_file(forced, stage_run_id(), "cannot write the stage record");
   std::printf(" done in %s\n", format_seconds(out.seconds).c_str());
   return out;
 }

@@ -6,6 +6,7 @@
 
 #include "core/file_checks.hpp"
 #include "core/text_file.hpp"
+#include "pipeline/rank_tasks.hpp"
 #include "pipeline/stage_runner.hpp"
 #include "pipeline/study.hpp"
 #include "pipeline/study_util.hpp"
@@ -50,22 +51,42 @@ void run_study_bake_resolution(const BakeResolutionOptions& o) {
   const std::string model = (dir / "model.h5").string(), ds = (dir / "dataset.h5").string();
   std::vector<std::string> in;
   if (fs::exists(o.pattern)) in.push_back(o.pattern);
-  run_stage(dir, {"produce", produce_stage_args(o.pattern, ds, o.acc.preset, o.acc.threads), in, {ds}}, o.acc.force);
-  run_stage(dir, {"train-all", train_stage_args(ds, model, o.acc.threads, o.acc.epochs), {ds}, {model}}, o.acc.force);
+  const StageSpec produce = {"produce", produce_stage_args(o.pattern, ds, o.acc.preset, o.acc.threads), in, {ds}};
+  const StageSpec train = {"train-all", train_stage_args(ds, model, o.acc.threads, o.acc.epochs), {ds}, {model}};
+  auto bake = [&](const Bake& b) {
+    const std::string baked = (dir / (std::string(b.label) + ".h5")).string();
+    return StageSpec{std::string("bake-") + b.label,
+                     {"bake", model, "-o", baked, "--data", ds, "--res1d", std::to_string(b.r1), "--res2d", std::to_string(b.r2)},
+                     {model, ds},
+                     {baked}};
+  };
+  auto test = [&](const Bake& b) {
+    AccuracyOptions a = base;
+    a.baked = (dir / (std::string(b.label) + ".h5")).string();
+    a.dataset = ds;
+    a.out = (dir / b.label).string();
+    return a;
+  };
+  // On several ranks (pipeline/rank_tasks.hpp): the stages as tasks first, then rank 0 alone.
+  const OnRanks ranks(dir, "study bake-resolution", [&](RankTasks& g) {
+    // (The tasks run after this lambda returned: no locals of it in them.)
+    auto key = [&](const StageSpec& s) { return (dir / ".stages" / s.name).string(); };
+    const int p = g.add(key(produce), "produce (" + o.acc.preset + ")", produce_task_weight(o.acc.preset), {},
+                        [&dir, &produce, &o] { run_stage(dir, produce, o.acc.force); });
+    const int t = g.add(key(train), "train-all", 10, {p}, [&dir, &train, &o] { run_stage(dir, train, o.acc.force); });
+    for (const Bake& b : kBakes) {
+      const int k = g.add(key(bake(b)), bake(b).name, 1, {t}, [&dir, &bake, &o, b] { run_stage(dir, bake(b), o.acc.force); });
+      add_accuracy_tasks(g, test(b), b.label, {k});
+    }
+  });
+  if (!ranks.root()) return;
+  run_stage(dir, produce, o.acc.force);
+  run_stage(dir, train, o.acc.force);
   const auto it = paper_table4().find(name);
   for (size_t k = 0; k < 4; ++k) {
     const Bake& b = kBakes[k];
-    const std::string baked = (dir / (std::string(b.label) + ".h5")).string();
-    run_stage(dir, {std::string("bake-") + b.label,
-                    {"bake", model, "-o", baked, "--data", ds, "--res1d", std::to_string(b.r1), "--res2d", std::to_string(b.r2)},
-                    {model, ds},
-                    {baked}},
-              o.acc.force);
-    AccuracyOptions a = base;
-    a.baked = baked;
-    a.dataset = ds;
-    a.out = (dir / b.label).string();
-    const AccuracySummary s = run_accuracy(a).materials[0].summary;
+    run_stage(dir, bake(b), o.acc.force);
+    const AccuracySummary s = run_accuracy(test(b)).materials[0].summary;
     const std::string paper = it == paper_table4().end() ? "-" : fmt(it->second[k][0]) + " / " + fmt(it->second[k][1]);
     md += std::string("| ") + b.label + " | " + std::to_string(b.r1) + " | " + std::to_string(b.r2) + "x" + std::to_string(b.r2) +
           " | " + summary_md(s, " / ") + " | " + paper + " |\n";

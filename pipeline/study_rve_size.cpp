@@ -7,6 +7,7 @@
 #include "core/console.hpp"
 #include "core/file_checks.hpp"
 #include "core/text_file.hpp"
+#include "pipeline/rank_tasks.hpp"
 #include "pipeline/stage_runner.hpp"
 #include "pipeline/study.hpp"
 #include "pipeline/study_util.hpp"
@@ -45,6 +46,26 @@ void run_study_rve_size(const RveSizeOptions& o) {
   check_output_folder(o.out);
   const fs::path dir(o.out);
   fs::create_directories(dir);
+  auto sub_of = [&](int n) { return dir / ("tiles_" + std::to_string(n) + "x" + std::to_string(n)); };
+  // The strip is always made of the pattern itself.
+  auto row = [&](int n) {
+    AccuracyOptions a = row_test(o.acc, o.pattern, o.direction, sub_of(n).string(), (sub_of(n) / "test").string());
+    a.dataset = (sub_of(n) / "dataset.h5").string();
+    a.strip_dir = (dir / "strip").string();
+    a.spline = false;
+    return a;
+  };
+  // On several ranks (pipeline/rank_tasks.hpp): the patches' datasets and tests first, then rank 0 alone.
+  const OnRanks ranks(dir, "study rve-size", [&](RankTasks& g) {
+    for (int n : o.tiles) {
+      const std::string label = std::to_string(n) + "x" + std::to_string(n);
+      const int made = g.add((sub_of(n) / ".stages" / "produce").string(), label + ": produce (" + o.acc.preset + ")",
+                             produce_task_weight(o.acc.preset, n), {},
+                             [&o, n, sub = sub_of(n)] { produce_patch(o, sub, n, (sub / "dataset.h5").string()); });
+      add_accuracy_tasks(g, row(n), label, {made});
+    }
+  });
+  if (!ranks.root()) return;
   std::string md = "# Supplement Table 2, reproduced (" + paper_name(o.pattern) + ", " + o.direction +
                    ")\n\nPer RVE: produce time and mean stress difference (N/m) against the yarn strip. The paper's RVEs "
                    "are 1.8, 2.2, 2.6 and 3.0 times the pattern (not whole tiles); ours are whole n x n tiles.\n\n"
@@ -52,15 +73,8 @@ void run_study_rve_size(const RveSizeOptions& o) {
   std::string csv = "tiles,produce_seconds,mean_dN,mean_H_cm,mean_rel_pct\n";
   for (int n : o.tiles) {
     const std::string label = std::to_string(n) + "x" + std::to_string(n);
-    const fs::path sub = dir / ("tiles_" + label);
-    const std::string ds = (sub / "dataset.h5").string();
-    const double secs = produce_patch(o, sub, n, ds);
-    // The strip is always made of the pattern itself.
-    AccuracyOptions a = row_test(o.acc, o.pattern, o.direction, sub.string(), (sub / "test").string());
-    a.dataset = ds;
-    a.strip_dir = (dir / "strip").string();
-    a.spline = false;
-    const AccuracySummary s = run_accuracy(a).materials[0].summary;
+    const double secs = produce_patch(o, sub_of(n), n, (sub_of(n) / "dataset.h5").string());
+    const AccuracySummary s = run_accuracy(row(n)).materials[0].summary;
     md += "| " + label + " | " + (std::isnan(secs) ? std::string("-") : format_seconds(secs)) + " | " + summary_md(s) + " | " +
           fmt(100 * s.mean_rel_error) + " |\n";
     csv += std::to_string(n) + "," + fmt(secs, "%.3f") + "," + summary_csv(s) + "\n";

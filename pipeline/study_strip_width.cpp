@@ -10,6 +10,7 @@
 #include "core/text_file.hpp"
 #include "pipeline/child_process.hpp"
 #include "pipeline/python_env.hpp"
+#include "pipeline/rank_tasks.hpp"
 #include "pipeline/study.hpp"
 #include "pipeline/study_util.hpp"
 
@@ -75,6 +76,23 @@ void run_study_strip_width(const StripWidthOptions& o) {
   const std::string name = paper_name(o.pattern);
   std::vector<double> widths = o.widths;
   std::sort(widths.begin(), widths.end());
+  // One dataset and one material for every width.
+  auto row = [&](double w) {
+    char sz[64], label[32];
+    std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);
+    std::snprintf(label, sizeof label, "w_%.4g", w);
+    AccuracyOptions a = row_test(o.acc, o.pattern, o.direction, dir.string(), (dir / label).string());
+    a.size = sz;
+    a.dataset = o.dataset;
+    a.baked = o.baked;
+    a.spline = false;
+    return a;
+  };
+  // On several ranks (pipeline/rank_tasks.hpp): the widths' pieces first, then rank 0 alone.
+  const OnRanks ranks(dir, "study strip-width", [&](RankTasks& g) {
+    for (double w : widths) add_accuracy_tasks(g, row(w), "width " + fmt(w, "%g") + " m");
+  });
+  if (!ranks.root()) return;
   std::string md = "# Strip-width study (" + name + ", " + o.direction + ", length " + fmt(100 * o.length, "%g") +
                    " cm)\n\nClamp force per undeformed width (N/m), yarn strip / continuum strip of the same size, and the "
                    "mean relative stress error over the tests beyond 100 %.\n\n";
@@ -85,21 +103,12 @@ void run_study_strip_width(const StripWidthOptions& o) {
   for (double w : widths) area_total += w;
   int k = 0;
   for (double w : widths) {
-    char sz[64], label[32];
-    std::snprintf(sz, sizeof sz, "%.6g,%.6g", w, o.length);
-    std::snprintf(label, sizeof label, "w_%.4g", w);
     const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("\n== width %s m (%s)\n", fmt(w, "%g").c_str(),
                 study_progress(k++, int(widths.size()), el, area_done, area_total).c_str());
     std::fflush(stdout);
     area_done += w;
-    // One dataset and one material for every width.
-    AccuracyOptions a = row_test(o.acc, o.pattern, o.direction, dir.string(), (dir / label).string());
-    a.size = sz;
-    a.dataset = o.dataset;
-    a.baked = o.baked;
-    a.spline = false;
-    const AccuracyResult r = run_accuracy(a);
+    const AccuracyResult r = run_accuracy(row(w));
     if (first) md += width_header(r);
     first = false;
     add_width_rows(o, w, r, md, csv);

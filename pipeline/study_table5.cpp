@@ -7,6 +7,7 @@
 
 #include "core/file_checks.hpp"
 #include "core/text_file.hpp"
+#include "pipeline/rank_tasks.hpp"
 #include "pipeline/study.hpp"
 #include "pipeline/study_util.hpp"
 
@@ -59,6 +60,16 @@ void add_rows(const std::string& name, const std::string& d, const AccuracyResul
 
 void run_study_table5(const Table5Options& o) {
   check_output_folder(o.out);
+  auto row = [&o](const std::string& p, const std::string& d) {
+    const std::string name = paper_name(p);
+    return row_test(o.acc, p, d, (fs::path(o.out) / name).string(), (fs::path(o.out) / name / d).string());
+  };
+  // On several ranks (pipeline/rank_tasks.hpp): the rows' pieces first, then rank 0 alone.
+  const OnRanks ranks(o.out, "study table5", [&](RankTasks& g) {
+    for (const std::string& p : o.patterns)
+      for (const std::string& d : o.directions) add_accuracy_tasks(g, row(p, d), paper_name(p) + ", " + d);
+  });
+  if (!ranks.root()) return;
   std::string md =
       "# Supplement Table 5, reproduced\n\nPer row: mean stress difference (N/m), mean Hausdorff distance (cm), mean "
       "relative stress error (%) over the tests, ours against the paper's.\n\n"
@@ -75,8 +86,7 @@ void run_study_table5(const Table5Options& o) {
       std::printf("\n== %s, %s (%s)\n", name.c_str(), d.c_str(), study_progress(k, tests, el, k, tests).c_str());
       std::fflush(stdout);
       ++k;
-      const AccuracyOptions a =
-          row_test(o.acc, p, d, (fs::path(o.out) / name).string(), (fs::path(o.out) / name / d).string());
+      const AccuracyOptions a = row(p, d);
       const AccuracyResult r = run_accuracy(a);
       std::printf("%s", accuracy_report_text(r, a).c_str());
       fig5(r, a, name + " (" + d + "), 130 %: yarn level | continuum (neural)", fs::path(o.out) / ("fig5_" + name + "_" + d + ".png"));

@@ -78,7 +78,9 @@ ProduceOptions produce_options(const ProduceRunOptions& o) {
   // thread too unless OPENBLAS_NUM_THREADS says otherwise: OpenBLAS would start one per core in
   // every rank (or under every sector's thread) and oversubscribe the cores.
   opt.ranks = cluster::size() > 1;
-  opt.threads = o.threads > 0 ? o.threads : opt.ranks ? 1 : omp_get_num_procs();
+  // Otherwise all cores, or OMP_NUM_THREADS where set (a rank of `mpirun ... study` sets it to
+  // its share of the node for the stages it runs, pipeline/rank_tasks.hpp).
+  opt.threads = o.threads > 0 ? o.threads : opt.ranks ? 1 : omp_get_max_threads();
   if (opt.ranks) omp_set_num_threads(opt.threads);
   if (!std::getenv("OPENBLAS_NUM_THREADS")) numerics::set_blas_threads(1);
   opt.sectors = o.sectors;

@@ -73,7 +73,7 @@ TrainerOptions trainer_options(const TrainRunOptions& o, const std::set<std::str
   opt.net.hidden = parse_ints(o.hidden, "--hidden");
   if (given("--hidden")) opt.hidden_2d.clear();
   if (given("--hidden-2d")) opt.hidden_2d = parse_ints(o.hidden_2d, "--hidden-2d");
-  opt.config.threads = o.threads > 0 ? o.threads : omp_get_num_procs();
+  opt.config.threads = o.threads > 0 ? o.threads : omp_get_max_threads();  // all cores, or OMP_NUM_THREADS
   opt.config.off_domain = o.off;
   opt.config.loss.w = LossWeights{o.wz, o.wf, o.wc, o.ws, o.wx};
   opt.config.loss.stencil_c = o.stencil;

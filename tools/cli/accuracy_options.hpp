@@ -27,18 +27,28 @@ inline void add_reuse_options(CLI::App* cmd, std::string& dataset, std::string& 
 // --preset, [--size,] --stretch, [--dataset, --baked,] --epochs, --threads, --spacing, --strip-args,
 // --sim-args, --force.
 inline void add_accuracy_options(CLI::App* cmd, pipeline::AccuracyOptions& a, const AccuracyOptionHelp& help = {}) {
-  add_preset_option(cmd, a.preset, "produce's sampling preset: quick or paper");
+  add_preset_option(cmd, a.preset, "produce's sampling preset: quick or paper (tiny: 5 / 3 x 3 points, for tests)", true);
   if (!help.size.empty()) cmd->add_option("--size", a.size, help.size)->capture_default_str();
   cmd->add_option("--stretch", a.stretch, help.stretch)->capture_default_str();
   if (help.reuse) add_reuse_options(cmd, a.dataset, a.baked);
   add_epochs_option(cmd, a.epochs, "train-all's epochs per network (0: its default)");
-  add_threads_option(cmd, a.threads, "Threads for produce and train-all (0: all cores)")->capture_default_str();
+  add_threads_option(cmd, a.threads,
+                     "Threads for produce and train-all (0: all cores). Under mpirun -np N (the test's pieces run on "
+                     "the ranks, docs/produce.md) each rank's stages take by default the node's cores / its ranks "
+                     "(at most the rank's own CPUs), through OMP_NUM_THREADS unless that is set")
+      ->capture_default_str();
   cmd->add_option("--spacing", a.spacing, "Surface sampling of the Hausdorff distance, metres")
       ->check(finite_positive())
       ->capture_default_str();
   cmd->add_option("--strip-args", a.strip_args, help.strip_args);
   cmd->add_option("--sim-args", a.sim_args, help.sim_args);
   add_force_flag(cmd, a.force);
+  cmd->footer(
+      "On a cluster: mpirun -np N yarnhom " + std::string(cmd->get_parent() && cmd->get_parent()->get_name() == "study" ? "study " : "") +
+      cmd->get_name() +
+      " ... (a build with MPI) runs the independent stages (yarn strips, datasets, training, continuum strips) on the "
+      "ranks, rank 0 handing them out, then writes the same files as one process; each rank's stage lines go to "
+      "OUT/logs/rank-R.log; a rerun with any number of ranks resumes (docs/produce.md, \"The studies on a cluster\").");
 }
 
 // Before the first stage (issue 32): the test's own options (--stretch from 1.0, --dataset a

@@ -147,8 +147,10 @@ inline CLI::Option* add_output_option(CLI::App* cmd, std::string& out, const std
 inline CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help, int least = 0) {
   return cmd->add_option("--threads", threads, help)->check(CLI::Range(least, kMaxThreads));
 }
-inline CLI::Option* add_preset_option(CLI::App* cmd, std::string& preset, const std::string& help) {
-  return cmd->add_option("--preset", preset, help)->check(CLI::IsMember({"quick", "paper"}))->capture_default_str();
+inline CLI::Option* add_preset_option(CLI::App* cmd, std::string& preset, const std::string& help, bool tiny = false) {
+  const std::vector<std::string> presets = tiny ? std::vector<std::string>{"quick", "paper", "tiny"}
+                                                : std::vector<std::string>{"quick", "paper"};
+  return cmd->add_option("--preset", preset, help)->check(CLI::IsMember(presets))->capture_default_str();
 }
 inline CLI::Option* add_direction_option(CLI::App* cmd, std::string& direction, const std::string& help = "Stretch direction") {
   return cmd->add_option("--direction", direction, help)->check(CLI::IsMember({"course", "wale"}));

@@ -48,7 +48,7 @@ void register_produce(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "quick (21 points / 9 x 9), paper (101 / 31 x 31) or tiny (5 / 3 x 3, for tests)")
       ->check(CLI::IsMember({"quick", "paper", "tiny"}));
   cmd->add_option("--terms", o->terms, "Terms to produce, e.g. 0,02 (default all)")->check(term_list_validator());
-  add_threads_option(cmd, o->threads, "Sectors solved in parallel (0 or absent: all cores; under mpirun: threads per rank, default 1)");
+  add_threads_option(cmd, o->threads, "Sectors solved in parallel (0 or absent: all cores, or OMP_NUM_THREADS where set; under mpirun: threads per rank, default 1)");
   cmd->add_option("--sectors", o->sectors, "Sectors per 2D term, 1..64 (default 8)")->check(CLI::Range(1, 64));
   cmd->add_option("--rest-time-limit", o->rest_time_limit,
                   "Wall-clock limit of the rest relaxation in seconds, 0: none (default 300; the largest "

@@ -132,7 +132,7 @@ void add_common(CLI::App* cmd, TrainRunOptions& o) {
                   "Seed of the split, initialization, shuffling and off-domain points; the same "
                   "seed and backend give identical weights (on the CPU for any thread count)")
       ->capture_default_str();
-  add_threads_option(cmd, o.threads, "CPU threads (0: all cores)")->capture_default_str();
+  add_threads_option(cmd, o.threads, "CPU threads (0: all cores, or OMP_NUM_THREADS where set)")->capture_default_str();
   add_recipe_options(cmd, o);
   add_loss_options(cmd, o);
   add_polish_options(cmd, o);

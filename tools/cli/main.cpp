@@ -18,15 +18,18 @@ int main(int argc, char** argv) {
     setenv("OPENBLAS_CORETYPE", kernels, 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on with the kernels we have
   }
-  // Under mpirun (docs/produce.md, "On a cluster"): only produce runs on several ranks; any other
-  // command would run once per rank and write the same files.
+  // Under mpirun (docs/produce.md, "On a cluster"): produce, accuracy and the accuracy studies
+  // run on several ranks; any other command would run once per rank and write the same files.
   yarnhom::cluster::init(&argc, &argv);
   if (yarnhom::cluster::size() > 1) {
-    const std::string command = argc > 1 ? argv[1] : "";
-    if (command != "produce") {
+    const std::string command = argc > 1 ? argv[1] : "", sub = argc > 2 ? argv[2] : "";
+    const bool study = command == "study" && (sub == "table5" || sub == "rve-size" || sub == "bake-resolution" ||
+                                              sub == "strip-width" || sub == "--help" || sub == "-h");
+    if (command != "produce" && command != "accuracy" && !study) {
       if (yarnhom::cluster::rank() == 0)
-        std::fprintf(stderr, "yarnhom: error: '%s' was started by mpirun on %d ranks; only 'produce' runs on several "
-                     "ranks (run the others without mpirun)\n", command.c_str(), yarnhom::cluster::size());
+        std::fprintf(stderr, "yarnhom: error: '%s%s%s' was started by mpirun on %d ranks; only produce, accuracy and study "
+                     "table5 | rve-size | bake-resolution | strip-width run on several ranks (run the others without "
+                     "mpirun)\n", command.c_str(), sub.empty() ? "" : " ", sub.c_str(), yarnhom::cluster::size());
       return 2;
     }
   }
