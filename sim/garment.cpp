@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <numeric>
@@ -70,7 +71,7 @@ bool on_seam(double x, double z, double tol) {
 
 }  // namespace
 
-Scene tshirt_scene(int k) {
+Scene tshirt_garment(int k) {
   if (k < 1 || k > 80) throw std::invalid_argument("tshirt: --resolution must be between 1 and 80 (grid spacing 8 cm / resolution)");
   const double h = 0.08 / k;
   const int nx = int(std::lround(2 * kSleeveEnd / h)), nz = int(std::lround(kHeight / h));
@@ -125,18 +126,43 @@ Scene tshirt_scene(int k) {
   s.stitch_stiffness = 2000 * h;  // N/m per stitch: ~2 N per metre of seam per mm of gap
   s.sew_time = 0.5;
   s.gravity_delay = 0.5;
-  // The mannequin: torso, neck and arms held out sideways (T pose), as capsules.
+  return s;
+}
+
+std::vector<CapsuleObstacle> mannequin_capsules() {
+  // Torso, neck and arms held out sideways (T pose).
   auto capsule = [](Eigen::Vector3d a, Eigen::Vector3d b, double r) {
     CapsuleObstacle c;
     c.a = a, c.b = b, c.radius = r, c.friction = 0.3;
     return c;
   };
-  s.obstacles.capsules = {capsule({0, 0, 0.80}, {0, 0, 1.34}, 0.12), capsule({0, 0, 1.40}, {0, 0, 1.62}, 0.055),
-                          capsule({-0.10, 0, 1.34}, {-0.70, 0, 1.34}, 0.04), capsule({0.10, 0, 1.34}, {0.70, 0, 1.34}, 0.04)};
+  return {capsule({0, 0, 0.80}, {0, 0, 1.34}, 0.12), capsule({0, 0, 1.40}, {0, 0, 1.62}, 0.055),
+          capsule({-0.10, 0, 1.34}, {-0.70, 0, 1.34}, 0.04), capsule({0.10, 0, 1.34}, {0.70, 0, 1.34}, 0.04)};
+}
+
+Scene tshirt_scene(int k) {
+  Scene s = tshirt_garment(k);
+  s.obstacles.capsules = mannequin_capsules();
   s.self_friction = 0.2;
   s.frames = 90;
   s.render_frames = {0, 30, 90};
   return s;
+}
+
+void check_body_clear_of_tshirt(const MeshObstacle& body) {
+  constexpr double kClear = 0.01;  // m between the body and a panel at the start
+  const Eigen::MatrixX3d& x = body.frames.at(0);
+  for (int v = 0; v < x.rows(); ++v) {
+    if (!inside_pattern(x(v, 0), x(v, 2) - kHem) || std::abs(x(v, 1)) < kPanelGap - kClear) continue;
+    char buf[480];
+    std::snprintf(buf, sizeof buf,
+                  ": vertex %d (counted from 1; first frame) at (%.3f, %.3f, %.3f) m meets the T-shirt's panels "
+                  "where they start (y = +-%.2f m over |x| < %.2f m, %.2f m < z < %.2f m; the body must lie within "
+                  "|y| < %.2f m there): place the body in the mannequin's frame (z up, facing +y, torso axis on "
+                  "x = y = 0, shoulders at z = 1.34 m) with the collider's \"scale\" and \"translate\" (docs/sim.md)",
+                  v + 1, x(v, 0), x(v, 1), x(v, 2), kPanelGap, kSleeveEnd, kHem, kHem + kHeight, kPanelGap - kClear);
+    throw std::invalid_argument(body.name + buf);
+  }
 }
 
 }  // namespace yarnhom::sim

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 
 #include "io/obj_read.hpp"
+#include "io/obj_write.hpp"
 
 namespace yarnhom::sim {
 
@@ -91,6 +93,9 @@ MeshObstacle read_mesh_obstacle(const std::vector<std::string>& files, double fr
   MeshObstacle m;
   m.name = files[0];
   m.frame_dt = frame_dt;
+  m.scale = scale;
+  m.offset = offset;
+  for (const std::string& f : files) m.files.push_back(std::filesystem::absolute(f).lexically_normal().string());
   for (size_t k = 0; k < files.size(); ++k) {
     const ObjGeometry g = read_obj_geometry(files[k]);
     if (g.F.cols() == 0) throw std::invalid_argument(files[k] + ": no triangles (a mesh collider needs faces)");
@@ -108,6 +113,58 @@ MeshObstacle read_mesh_obstacle(const std::vector<std::string>& files, double fr
     m.frames.push_back(std::move(x));
   }
   return m;
+}
+
+MeshObstacle capsules_mesh(const std::vector<CapsuleObstacle>& capsules, int around, int rings) {
+  if (around < 3 || rings < 1) throw std::invalid_argument("capsules_mesh: at least 3 vertices per ring and 1 ring");
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  for (const CapsuleObstacle& c : capsules) {
+    const Eigen::Vector3d w = (c.b - c.a).normalized();
+    Eigen::Vector3d t = w.cross(std::abs(w.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).normalized();
+    const Eigen::Vector3d s = w.cross(t);  // (t, s, w) right-handed
+    const int base = int(V.size());
+    // The pole at a, rings from a's half sphere to b's (polar angle -pi/2 .. pi/2, the last ring
+    // of a's half and the first of b's at angle 0), the pole at b.
+    V.push_back(c.a - c.radius * w);
+    for (int half = 0; half < 2; ++half)
+      for (int k = 0; k < rings; ++k) {
+        const double th = half == 0 ? -M_PI / 2 + M_PI / 2 * (k + 1) / rings : M_PI / 2 * k / rings;
+        const Eigen::Vector3d centre = half == 0 ? c.a : c.b;
+        for (int i = 0; i < around; ++i) {
+          const double u = 2 * M_PI * i / around;
+          V.push_back(centre + c.radius * (std::cos(th) * (std::cos(u) * t + std::sin(u) * s) + std::sin(th) * w));
+        }
+      }
+    V.push_back(c.b + c.radius * w);
+    const int nring = 2 * rings, top = base + 1 + nring * around;
+    auto ring = [&](int r, int i) { return base + 1 + r * around + (i % around); };
+    // Counterclockwise seen from outside: around the pole at a (normal -w), then the bands, then b.
+    for (int i = 0; i < around; ++i) F.emplace_back(base, ring(0, i + 1), ring(0, i));
+    for (int r = 0; r + 1 < nring; ++r)
+      for (int i = 0; i < around; ++i) {
+        F.emplace_back(ring(r, i), ring(r, i + 1), ring(r + 1, i + 1));
+        F.emplace_back(ring(r, i), ring(r + 1, i + 1), ring(r + 1, i));
+      }
+    for (int i = 0; i < around; ++i) F.emplace_back(top, ring(nring - 1, i), ring(nring - 1, i + 1));
+  }
+  MeshObstacle m;
+  m.name = "capsules";
+  m.tris.resize(Eigen::Index(F.size()), 3);
+  for (size_t k = 0; k < F.size(); ++k) m.tris.row(Eigen::Index(k)) = F[k].transpose();
+  Eigen::MatrixX3d x(Eigen::Index(V.size()), 3);
+  for (size_t k = 0; k < V.size(); ++k) x.row(Eigen::Index(k)) = V[k].transpose();
+  m.frames = {x};
+  if (!capsules.empty()) m.friction = capsules[0].friction;
+  return m;
+}
+
+void write_obstacle_obj(const std::string& path, const MeshObstacle& m, size_t frame) {
+  ObjWriter w(path);
+  const Eigen::MatrixX3d& x = m.frames.at(frame);
+  for (int v = 0; v < x.rows(); ++v) w.vertex(x(v, 0), x(v, 1), x(v, 2));
+  for (int t = 0; t < m.tris.rows(); ++t) w.face({m.tris(t, 0) + 1, m.tris(t, 1) + 1, m.tris(t, 2) + 1});
+  w.commit();
 }
 
 }  // namespace yarnhom::sim

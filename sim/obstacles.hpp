@@ -27,6 +27,9 @@ struct CapsuleObstacle {
 
 struct MeshObstacle {
   std::string name;                       // for messages (the OBJ file)
+  std::vector<std::string> files;         // the OBJ files it was read from (absolute), one per frame; empty: made in code
+  double scale = 1;                       // what read_mesh_obstacle applied to the files' positions
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::MatrixX3i tris;                  // triangles over the frames' vertices
   std::vector<Eigen::MatrixX3d> frames;   // >= 1; all with the same vertex count, m
   double frame_dt = 1.0 / 30;             // s between frames
@@ -58,5 +61,14 @@ Eigen::VectorXd obstacle_positions(const ObstacleSet& o, double t);
 // wrong (unreadable, no triangles, a frame whose vertex count or faces differ).
 MeshObstacle read_mesh_obstacle(const std::vector<std::string>& files, double frame_dt, double scale = 1.0,
                                 const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
+
+// Capsules as one static mesh obstacle: each a closed, outward-oriented triangle mesh with its
+// vertices on the capsule's surface (`around` vertices per ring, `rings` rings per half sphere
+// and the two poles), placed where the capsule is at t = 0; the shells of overlapping capsules
+// overlap. The mannequin as an OBJ body (tests, sim/garment.hpp).
+MeshObstacle capsules_mesh(const std::vector<CapsuleObstacle>& capsules, int around = 24, int rings = 6);
+
+// One frame of a mesh obstacle as an OBJ file (positions and triangles; atomically).
+void write_obstacle_obj(const std::string& path, const MeshObstacle& m, size_t frame = 0);
 
 }  // namespace yarnhom::sim

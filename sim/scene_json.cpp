@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "io/json_reader.hpp"
+#include "sim/garment.hpp"
 #include "sim/obj_io.hpp"
 #include "sim/rectangle.hpp"
 
@@ -54,10 +55,36 @@ struct Reader : io::JsonReader {
 };
 
 // "mesh" (an OBJ file or a rectangle) and "position" (a rigid placement of it).
+// A garment: {"garment": "tshirt", "resolution": k, "mannequin": false} (sim/garment.hpp).
+void read_garment(const Reader& r, const json& jm, const json& j, Scene& s) {
+  if (jm.contains("obj") || jm.contains("rectangle")) r.fail("mesh", "give one of obj, rectangle and garment");
+  if (!jm["garment"].is_string() || jm["garment"] != "tshirt") r.fail("mesh.garment", "must be \"tshirt\" (the one garment built in)");
+  const int k = jm.contains("resolution") ? r.integer(jm["resolution"], "mesh.resolution", 1) : 4;
+  if (k > 80) r.fail("mesh.resolution", "must be between 1 and 80 (grid spacing 8 cm / resolution)");
+  // The body stands in the mannequin's frame (sim/garment.hpp): the garment is not moved.
+  if (j.contains("position"))
+    r.fail("position", "a garment starts where the program places it; move the body instead (the mesh collider's "
+                       "\"scale\" and \"translate\")");
+  const std::string name = s.name;
+  s = tshirt_garment(k);
+  s.name = name;
+  if (jm.contains("mannequin")) {
+    if (!jm["mannequin"].is_boolean()) r.fail("mesh.mannequin", "must be true or false");
+    if (jm["mannequin"].get<bool>()) s.obstacles.capsules = mannequin_capsules();
+  }
+}
+
 void read_mesh(const Reader& r, const json& j, Scene& s) {
-  if (!j.contains("mesh")) r.fail("mesh", "missing (give {\"obj\": FILE} or {\"rectangle\": {...}})");
+  if (!j.contains("mesh")) r.fail("mesh", "missing (give {\"obj\": FILE}, {\"rectangle\": {...}} or {\"garment\": \"tshirt\"})");
   const json& jm = j["mesh"];
-  r.only(jm, "mesh", {"obj", "rectangle"});
+  r.only(jm, "mesh", {"obj", "rectangle", "garment", "resolution", "mannequin"});
+  if (!jm.contains("garment"))
+    for (const char* k : {"resolution", "mannequin"})
+      if (jm.contains(k)) r.fail(std::string("mesh.") + k, "applies to a garment only (\"garment\": \"tshirt\")");
+  if (jm.contains("garment")) {
+    read_garment(r, jm, j, s);
+    return;
+  }
   if (jm.contains("obj")) {
     const std::string obj = r.path(jm["obj"], "mesh.obj");
     try {
@@ -78,7 +105,7 @@ void read_mesh(const Reader& r, const json& j, Scene& s) {
                                    std::to_string(long(kMaxRectangleQuads)) + " (nx ny <= 4e6, 8 million triangles)");
     s.mesh = make_rectangle(width, height, nx, ny);
   } else {
-    r.fail("mesh", "give {\"obj\": FILE} or {\"rectangle\": {...}}");
+    r.fail("mesh", "give {\"obj\": FILE}, {\"rectangle\": {...}} or {\"garment\": \"tshirt\"}");
   }
   if (j.contains("position")) {
     const json& p = j["position"];
@@ -147,7 +174,7 @@ std::vector<std::array<double, 4>> read_path(const Reader& r, const json& p, con
 
 // A capsule {"a", "b", "radius", "path"} or a mesh collider {"obj" | "frames", "frame_dt", "scale",
 // "translate"} (sim/obstacles.hpp); friction < 0: the global one (set later).
-void read_obstacle(const Reader& r, const json& jc, const std::string& key, double friction, Scene& s) {
+void read_obstacle(const Reader& r, const json& jc, const std::string& key, double friction, bool garment, Scene& s) {
   if (jc.contains("capsule")) {
     const json& c = jc["capsule"];
     const std::string k = key + ".capsule";
@@ -179,6 +206,7 @@ void read_obstacle(const Reader& r, const json& jc, const std::string& key, doub
   const Eigen::Vector3d off = m.contains("translate") ? r.vec3(m["translate"], k + ".translate") : Eigen::Vector3d::Zero();
   try {
     MeshObstacle mo = read_mesh_obstacle(files, dt, scale, off);
+    if (garment) check_body_clear_of_tshirt(mo);
     mo.friction = friction;
     s.obstacles.meshes.push_back(std::move(mo));
   } catch (const std::invalid_argument& e) {
@@ -187,7 +215,7 @@ void read_obstacle(const Reader& r, const json& jc, const std::string& key, doub
 }
 
 // "colliders", "barrier", "friction" and "self_collision".
-void read_contact(const Reader& r, const json& j, Scene& s) {
+void read_contact(const Reader& r, const json& j, bool garment, Scene& s) {
   if (j.contains("colliders")) {
     if (!j["colliders"].is_array()) r.fail("colliders", "must be an array");
     for (size_t k = 0; k < j["colliders"].size(); ++k) {
@@ -198,7 +226,7 @@ void read_contact(const Reader& r, const json& j, Scene& s) {
       c.friction = -1;  // none of its own: the global "friction" (below), else 0
       if (jc.contains("friction")) c.friction = r.nonnegative(jc["friction"], key + ".friction");
       if (jc.contains("capsule") || jc.contains("mesh")) {
-        read_obstacle(r, jc, key, c.friction, s);
+        read_obstacle(r, jc, key, c.friction, garment, s);
         continue;
       }
       if (jc.contains("sphere")) {
@@ -268,9 +296,12 @@ void read_seams(const Reader& r, const json& j, Scene& s) {
   if (!j.contains("seams")) return;
   const json& sm = j["seams"];
   r.only(sm, "seams", {"stitches", "stiffness", "sew_time", "gravity_delay"});
-  if (!sm.contains("stitches") || !sm["stitches"].is_array() || sm["stitches"].empty())
+  // A garment brings its stitches: the file's are added to them (and may be left out).
+  const bool garment = !s.stitches.empty();
+  const json none = json::array();
+  if ((!garment || sm.contains("stitches")) && (!sm.contains("stitches") || !sm["stitches"].is_array() || sm["stitches"].empty()))
     r.fail("seams.stitches", "must be a non-empty array of [a, b] vertex pairs");
-  for (const json& p : sm["stitches"]) {
+  for (const json& p : sm.contains("stitches") ? sm["stitches"] : none) {
     if (!p.is_array() || p.size() != 2) r.fail("seams.stitches", "each stitch must be [a, b] (two vertex indices)");
     const int a = r.integer(p[0], "seams.stitches", 0), b = r.integer(p[1], "seams.stitches", 0);
     for (int v : {a, b})
@@ -279,9 +310,10 @@ void read_seams(const Reader& r, const json& j, Scene& s) {
     if (a == b) r.fail("seams.stitches", "a stitch joins two different vertices");
     s.stitches.push_back({a, b, Eigen::Vector3d::Zero()});
   }
-  s.stitch_stiffness = sm.contains("stiffness") ? r.positive(sm["stiffness"], "seams.stiffness") : 50.0;
+  if (sm.contains("stiffness")) s.stitch_stiffness = r.positive(sm["stiffness"], "seams.stiffness");
+  else if (!garment) s.stitch_stiffness = 50.0;
   if (sm.contains("sew_time")) s.sew_time = r.positive(sm["sew_time"], "seams.sew_time");
-  if (sm.contains("gravity_delay")) s.gravity_delay = r.positive(sm["gravity_delay"], "seams.gravity_delay");
+  if (sm.contains("gravity_delay")) s.gravity_delay = r.nonnegative(sm["gravity_delay"], "seams.gravity_delay");
 }
 
 // "damping", "integrator", "dt", "substeps", "frames", "newton".
@@ -359,11 +391,12 @@ Scene read_scene_json(const std::string& file) {
     s.name = j["name"].get<std::string>();
   }
   read_mesh(r, j, s);
+  const bool garment = j["mesh"].contains("garment");
   if (j.contains("material")) s.material = r.path(j["material"], "material");
   if (j.contains("areal_density")) s.areal_density = r.positive(j["areal_density"], "areal_density");
   if (j.contains("gravity")) s.gravity = r.vec3(j["gravity"], "gravity");
   read_handles(r, j, s);
-  read_contact(r, j, s);
+  read_contact(r, j, garment, s);
   read_seams(r, j, s);
   read_time_stepping(r, j, s);
   if (j.contains("render")) {

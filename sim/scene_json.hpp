@@ -1,8 +1,10 @@
 #pragma once
 // Scene files (JSON), the format of docs/sim.md:
 //   {
-//     "mesh": {"obj": "cloth.obj"} | {"rectangle": {"width": 0.5, "height": 0.5, "nx": 40, "ny": 40}},
-//     "position": {"rotate_deg": [rx, ry, rz], "translate": [x, y, z]},      (optional)
+//     "mesh": {"obj": "cloth.obj"} | {"rectangle": {"width": 0.5, "height": 0.5, "nx": 40, "ny": 40}}
+//           | {"garment": "tshirt", "resolution": 4, "mannequin": false},  (sim/garment.hpp: panels,
+//             stitches and sewing; the body from "colliders", placed in the mannequin's frame)
+//     "position": {"rotate_deg": [rx, ry, rz], "translate": [x, y, z]},      (optional; not with a garment)
 //     "material": "baked.h5" | "hylc.json",                                   (optional)
 //     "areal_density": 0.3, "gravity": [0, 0, -9.81],
 //     "pins": [SELECTION, ...],
@@ -12,7 +14,8 @@
 //                   {"mesh": {"obj": "body.obj" | "frames": ["f0.obj", ...], "frame_dt": 0.0333,
 //                             "scale": 1, "translate": [x, y, z]}}],          (sim/obstacles.hpp)
 //     "self_collision": true | false | {"enabled": true, "friction": 0.2},   (default on; friction: the global one)
-//     "seams": {"stitches": [[a, b], ...], "stiffness": 50, "sew_time": 0.5, "gravity_delay": 0},  (sim/garment.hpp)
+//     "seams": {"stitches": [[a, b], ...], "stiffness": 50, "sew_time": 0.5, "gravity_delay": 0},  (sim/garment.hpp;
+//               with a garment: its stitches and sewing unless given, "stitches" added to its own)
 //     "barrier": {"dhat": 1e-3, "kappa": 100},
 //     "friction": 0.3 | {"mu": 0.3, "eps_v": 7e-4, "updates": 0},      (colliders without their own)
 //     "damping": {"rayleigh_alpha": 0, "rayleigh_beta": 0, "air": 0},

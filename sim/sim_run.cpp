@@ -19,6 +19,7 @@
 #include "core/number_list.hpp"
 #include "material/material_source.hpp"
 #include "numerics/blas_threads.hpp"
+#include "sim/garment.hpp"
 #include "sim/hessian_model.hpp"
 #include "sim/obj_io.hpp"
 #include "sim/scene_json.hpp"
@@ -29,21 +30,48 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-// What the renderer needs besides the frames: the colliders (drawn under the cloth).
+// What the renderer needs besides the frames: the colliders (drawn under the cloth) and where
+// the moving ones are at each frame: frame k's time is k frame_time (0 for a static run, whose
+// obstacles stay where they are at t = 0), a capsule moves along its path, a mesh collider
+// interpolates its OBJ frames (named by absolute path, with the scale and offset applied).
 void write_scene_info(const std::string& dir, const Scene& s) {
-  nlohmann::json j;
+  using nlohmann::json;
+  auto v3 = [](const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  json j;
   j["name"] = s.name;
-  j["colliders"] = nlohmann::json::array();
+  j["frame_time"] = s.integrator == Integrator::Static ? 0.0 : s.dt;
+  j["colliders"] = json::array();
   for (const Collider& c : s.colliders) {
     if (c.kind == Collider::Kind::Sphere)
-      j["colliders"].push_back({{"sphere", {{"center", {c.center.x(), c.center.y(), c.center.z()}}, {"radius", c.radius}}}});
+      j["colliders"].push_back({{"sphere", {{"center", v3(c.center)}, {"radius", c.radius}}}});
     else
-      j["colliders"].push_back({{"plane", {{"point", {c.center.x(), c.center.y(), c.center.z()}},
-                                           {"normal", {c.normal.x(), c.normal.y(), c.normal.z()}}}}});
+      j["colliders"].push_back({{"plane", {{"point", v3(c.center)}, {"normal", v3(c.normal)}}}});
   }
-  for (const CapsuleObstacle& c : s.obstacles.capsules)
-    j["colliders"].push_back({{"capsule", {{"a", {c.a.x(), c.a.y(), c.a.z()}}, {"b", {c.b.x(), c.b.y(), c.b.z()}},
-                                           {"radius", c.radius}, {"moving", !c.path.empty()}}}});
+  for (const CapsuleObstacle& c : s.obstacles.capsules) {
+    json cap = {{"a", v3(c.a)}, {"b", v3(c.b)}, {"radius", c.radius}, {"moving", !c.path.empty()}};
+    if (!c.path.empty()) cap["path"] = c.path;
+    j["colliders"].push_back({{"capsule", cap}});
+  }
+  for (const MeshObstacle& m : s.obstacles.meshes) {
+    json mesh = {{"frame_dt", m.frame_dt}};
+    if (!m.files.empty()) {  // read from OBJ files: name them (the frames of a walk would fill megabytes)
+      mesh["frames"] = m.files;
+      mesh["scale"] = m.scale;
+      mesh["translate"] = v3(m.offset);
+    } else {  // made in code: the triangles themselves
+      json frames = json::array();
+      for (const Eigen::MatrixX3d& x : m.frames) {
+        json f = json::array();
+        for (int v = 0; v < x.rows(); ++v) f.push_back(v3(x.row(v).transpose()));
+        frames.push_back(f);
+      }
+      json tris = json::array();
+      for (int t = 0; t < m.tris.rows(); ++t) tris.push_back({m.tris(t, 0), m.tris(t, 1), m.tris(t, 2)});
+      mesh["vertices"] = frames;
+      mesh["triangles"] = tris;
+    }
+    j["colliders"].push_back({{"mesh", mesh}});
+  }
   std::ofstream((fs::path(dir) / "scene_info.json").string()) << j.dump(1) << "\n";
 }
 
@@ -120,6 +148,22 @@ StretchSize stretch_size(const SimRunOptions& o) {
   return size;
 }
 
+// `sim tshirt --body FILE.obj`: the body OBJ instead of the mannequin (friction 0.3, as its).
+void wear_body(const std::string& scene, const std::string& body, Scene& s) {
+  if (scene != "tshirt")
+    throw std::invalid_argument("--body applies to the built-in tshirt scene only (a scene file names its body in \"colliders\")");
+  MeshObstacle b;
+  try {
+    b = read_mesh_obstacle({body}, 1.0 / 30);
+    check_body_clear_of_tshirt(b);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(std::string("--body: ") + e.what());
+  }
+  b.friction = 0.3;
+  s.obstacles.capsules.clear();
+  s.obstacles.meshes = {std::move(b)};
+}
+
 // The scene with the command line's overrides.
 Scene make_scene(const SimRunOptions& o) {
   const bool file = o.scene.size() > 5 && o.scene.substr(o.scene.size() - 5) == ".json";
@@ -130,6 +174,7 @@ Scene make_scene(const SimRunOptions& o) {
   const StretchSize size = stretch_size(o);
   Scene s = file ? read_scene_json(o.scene) : builtin_scene(o.scene, o.resolution, o.direction == "wale" ? 'y' : 'x', size);
   if (file && o.resolution) throw std::invalid_argument("--resolution applies to the built-in scenes only");
+  if (!o.body.empty()) wear_body(o.scene, o.body, s);
   if (!o.integrator.empty()) s.integrator = parse_integrator(o.integrator);
   if (o.dt > 0) s.dt = o.dt;
   if (o.substeps > 0) s.substeps = o.substeps;

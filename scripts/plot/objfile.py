@@ -16,7 +16,8 @@ def read_obj(path, default_group="yarn"):
             elif t[0] == "g":
                 group = t[1] if len(t) > 1 else default_group
             elif t[0] == "f":
-                idx = [int(x.split("/")[0]) - 1 for x in t[1:]]
+                idx = [int(x.split("/")[0]) for x in t[1:]]
+                idx = [k - 1 if k > 0 else len(v) + k for k in idx]  # negative: counted back from the last vertex
                 for k in range(1, len(idx) - 1):
                     f.append([idx[0], idx[k], idx[k + 1]])
             elif t[0] == "l":

@@ -10,7 +10,10 @@ frame, at most 150 evenly spaced, through ffmpeg when it is installed; one line 
 not). Every picture of a run has the same axes: the box of all its frames and colliders. The
 cloth is drawn over the colliders: a collider's faces hidden behind the cloth, seen from the
 camera, are left out (matplotlib sorts polygons by depth, which alone lets a sphere show through
-a cloth lying on it). Needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib).
+a cloth lying on it). Moving colliders are drawn where their motion puts them at each frame's
+time (scene_info's frame_time times the frame): a capsule along its path, a mesh collider
+interpolated between its OBJ frames as the simulator does (held at the last); the simulator
+lets an obstacle that the cloth blocks lag behind its path, which the picture does not show. Needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib).
 """
 import csv
 import json
@@ -35,15 +38,14 @@ def read_obj(path):
     return v, f
 
 
-def shade(tris):
-    """Lambert shading, two-sided, of triangles [m, 3, 3], as RGB."""
+def shade(tris, base=(0.85, 0.35, 0.25)):
+    """Lambert shading, two-sided, of triangles [m, 3, 3], as RGB (the cloth's warm colour by default)."""
     n = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
     light = np.array([0.3, -0.5, 0.8])
     light /= np.linalg.norm(light)
     lam = 0.35 + 0.65 * np.abs(n @ light)
-    base = np.array([0.85, 0.35, 0.25])  # front: warm; back side slightly darker
-    return np.clip(lam[:, None] * base[None, :], 0, 1)
+    return np.clip(lam[:, None] * np.asarray(base)[None, :], 0, 1)
 
 
 ELEV, AZIM = 22, -60  # the camera
@@ -84,6 +86,90 @@ def capsule_faces(a, b, r, nu=32, nv=16):
     return quads.reshape(-1, 4, 3)
 
 
+def path_offset(path, t):
+    """A keyframe path [[t, dx, dy, dz], ...] at time t: piecewise linear, held at both ends
+    (sim/obstacles.cpp's path_offset)."""
+    if not path:
+        return np.zeros(3)
+    ts = [k[0] for k in path]
+    return np.array([np.interp(t, ts, [k[i] for k in path]) for i in (1, 2, 3)])
+
+
+class MeshCollider:
+    """A mesh collider of scene_info.json: OBJ frames (scaled, moved) or the vertices given."""
+
+    def __init__(self, spec, out):
+        self.dt = spec.get("frame_dt", 1.0 / 30)
+        self.files = [f if os.path.isabs(f) else os.path.join(out, f) for f in spec.get("frames", [])]
+        self.scale = spec.get("scale", 1.0)
+        self.offset = np.array(spec.get("translate", [0.0, 0.0, 0.0]))
+        self.cache = {}
+        if "vertices" in spec:
+            self.cache = {k: np.array(v, float) for k, v in enumerate(spec["vertices"])}
+            self.faces = np.array(spec["triangles"], int).reshape(-1, 3)
+            self.count = len(spec["vertices"])
+        else:
+            self.count = len(self.files)
+            self.faces = None
+            self.frame(0)
+        self.closed = closed_mesh(self.faces)
+        if self.closed:  # turned outward (positive signed volume), so that its back faces can be hidden
+            x = self.frame(0)[self.faces]
+            if np.einsum("ij,ij->i", x[:, 0], np.cross(x[:, 1], x[:, 2])).sum() < 0:
+                self.faces = self.faces[:, ::-1]
+
+    def frame(self, k):
+        if k not in self.cache:
+            v, f = read_obj(self.files[k])
+            if self.faces is None:
+                self.faces = f
+            self.cache[k] = v * self.scale + self.offset
+        return self.cache[k]
+
+    def at(self, t):
+        """Vertex positions at time t: linear between frames floor(t / dt) and the next."""
+        f = max(0.0, t / self.dt)
+        i = min(int(f), self.count - 1)
+        j = min(i + 1, self.count - 1)
+        u = 0.0 if i == j else f - i
+        return (1 - u) * self.frame(i) + u * self.frame(j) if u > 0 else self.frame(i)
+
+
+def closed_mesh(faces):
+    """Whether every edge of the triangles lies in exactly two, once each way (a closed,
+    consistently oriented surface: its faces turned away from the camera are hidden)."""
+    if faces is None or len(faces) == 0:
+        return False
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    fwd = {tuple(x) for x in e.tolist()}
+    return len(fwd) == len(e) and all((b, a) in fwd for a, b in fwd)
+
+
+def frame_time(info, fr):
+    return fr * info.get("frame_time", 0.0)
+
+
+def collider_poses(info, meshes, t):
+    """Each drawable collider at time t: ("sphere", centre, r), ("capsule", a, b, r) or
+    ("mesh", triangles [m, 3, 3], closed)."""
+    out, k = [], 0
+    for c in info.get("colliders", []):
+        if "sphere" in c:
+            out.append(("sphere", np.array(c["sphere"]["center"], float), c["sphere"]["radius"]))
+        elif "capsule" in c:
+            cp = c["capsule"]
+            d = path_offset(cp.get("path", []), t)
+            if cp.get("moving") and "path" not in cp:
+                continue  # written before paths were: where it is is unknown
+            out.append(("capsule", np.array(cp["a"], float) + d, np.array(cp["b"], float) + d, cp["radius"]))
+        elif "mesh" in c:
+            m = meshes[k]
+            k += 1
+            x = m.at(t)
+            out.append(("mesh", x[m.faces], m.closed))
+    return out
+
+
 def hidden_by(points, tris, d):
     """For each point, whether the ray point + t d (t > 0) hits one of the triangles [m, 3, 3]
     (Moller-Trumbore, vectorized in chunks)."""
@@ -105,18 +191,20 @@ def hidden_by(points, tris, d):
     return hit
 
 
-def scene_box(out, info, frames):
-    """The box of every frame's vertices and of the colliders: the same axes for every picture."""
+def scene_box(out, info, frames, meshes):
+    """The box of every frame's vertices and of the colliders where they are at those frames:
+    the same axes for every picture."""
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
     for fr in frames:
         x, _ = read_obj(os.path.join(out, "frames", "frame_%04d.obj" % fr))
         lo, hi = np.minimum(lo, x.min(axis=0)), np.maximum(hi, x.max(axis=0))
-    for c in info.get("colliders", []):
-        if "sphere" in c:
-            cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
-            lo, hi = np.minimum(lo, cen - r), np.maximum(hi, cen + r)
-        if "capsule" in c and not c["capsule"].get("moving"):
-            q = capsule_faces(c["capsule"]["a"], c["capsule"]["b"], c["capsule"]["radius"]).reshape(-1, 3)
+        for c in collider_poses(info, meshes, frame_time(info, fr)):
+            if c[0] == "sphere":
+                q = np.stack([c[1] - c[2], c[1] + c[2]])
+            elif c[0] == "capsule":
+                q = np.stack([np.minimum(c[1], c[2]) - c[3], np.maximum(c[1], c[2]) + c[3]])
+            else:
+                q = c[1].reshape(-1, 3)
             lo, hi = np.minimum(lo, q.min(axis=0)), np.maximum(hi, q.max(axis=0))
     for c in info.get("colliders", []):
         if "plane" in c and abs(c["plane"]["normal"][2]) > 0.9:
@@ -124,7 +212,7 @@ def scene_box(out, info, frames):
     return lo, hi
 
 
-def render(obj, info, out_png, title, box, dpi=110):
+def render(obj, info, meshes, t, out_png, title, box, dpi=110):
     x, f = read_obj(obj)
     tris = x[f]
     lo, hi = box
@@ -140,28 +228,34 @@ def render(obj, info, out_png, title, box, dpi=110):
                 ax.plot_surface(xs, ys, np.full_like(xs, p[2]), color="0.85", alpha=0.5, zorder=0)
     polys, colours = list(tris), list(shade(tris))
     d = view_dir()
-    for c in info.get("colliders", []):
-        if "capsule" in c and not c["capsule"].get("moving"):  # a moving one's path is not in scene_info
-            cp = c["capsule"]
-            q = capsule_faces(cp["a"], cp["b"], cp["radius"])
+    grey = (0.72, 0.74, 0.78)
+    for c in collider_poses(info, meshes, t):
+        if c[0] == "capsule":
+            a, b, r = c[1], c[2], c[3]
+            q = capsule_faces(a, b, r)
             mid = q.mean(axis=1)
-            a, b = np.array(cp["a"]), np.array(cp["b"])
             w = (b - a) / np.linalg.norm(b - a)
             foot = a + np.clip((mid - a) @ w, 0, np.linalg.norm(b - a))[:, None] * w
             front = (mid - foot) @ d > 0
-            q, mid = q[front], mid[front]
-            keep = ~hidden_by(mid + 1e-4 * cp["radius"] * d, tris, d)
-            polys += list(q[keep])
-            colours += [(0.72, 0.74, 0.78)] * int(keep.sum())
-        if "sphere" in c:
-            cen, r = np.array(c["sphere"]["center"]), c["sphere"]["radius"]
+        elif c[0] == "sphere":
+            cen, r = c[1], c[2]
             q = sphere_faces(cen, r)
             mid = q.mean(axis=1)
             front = (mid - cen) @ d > 0  # the half facing the camera
-            q, mid = q[front], mid[front]
-            keep = ~hidden_by(mid + 1e-4 * r * d, tris, d)  # not behind the cloth
-            polys += list(q[keep])
-            colours += [(0.72, 0.74, 0.78)] * int(keep.sum())
+        else:
+            q, r = c[1], 1e-3  # r: the nudge toward the camera below (m)
+            mid = q.mean(axis=1)
+            if c[2]:  # closed: the faces turned toward the camera
+                front = np.cross(q[:, 1] - q[:, 0], q[:, 2] - q[:, 0]) @ d > 0
+            else:
+                front = np.ones(len(q), bool)
+        q, mid = q[front], mid[front]
+        keep = ~hidden_by(mid + 1e-4 * r * d, tris, d)  # not behind the cloth
+        polys += list(q[keep])
+        if c[0] == "mesh":  # shaded, so that a body's shape shows
+            colours += list(shade(q[keep], (0.8, 0.82, 0.86)))
+        else:
+            colours += [grey] * int(keep.sum())
     pc = Poly3DCollection(polys, facecolors=colours, edgecolors=colours, linewidths=0.2, zorder=1)  # no seams
     ax.add_collection3d(pc)
     mid, half = (lo + hi) / 2, max((hi - lo).max() / 2, 1e-3)
@@ -179,7 +273,7 @@ def render(obj, info, out_png, title, box, dpi=110):
     plt.close(fig)
 
 
-def video(out, info, name, frames, box):
+def video(out, info, meshes, name, frames, box):
     """OUT/sim.mp4 of the frames (at most 150, evenly spaced) through ffmpeg."""
     if os.environ.get("YARNHOM_NO_VIDEO", "") not in ("", "0"):
         return  # asked for no video (timing runs, test suites)
@@ -194,7 +288,8 @@ def video(out, info, name, frames, box):
     tmp = tempfile.mkdtemp(prefix="video.", dir=out)
     try:
         for k, fr in enumerate(pick):
-            render(os.path.join(out, "frames", "frame_%04d.obj" % fr), info, os.path.join(tmp, "%05d.png" % k),
+            render(os.path.join(out, "frames", "frame_%04d.obj" % fr), info, meshes, frame_time(info, fr),
+                   os.path.join(tmp, "%05d.png" % k),
                    "%s, frame %d" % (name, fr), box, dpi=72)
         part = os.path.join(out, "sim.mp4.part")
         cmd = [ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps), "-i", os.path.join(tmp, "%05d.png"),
@@ -250,17 +345,19 @@ def main():
     # long run would take longer than drawing).
     sample = sorted(set(written[int(round(i))] for i in np.linspace(0, len(written) - 1, min(150, len(written))))
                     | (set(frames) & set(written))) if written else []
-    box = scene_box(out, info, sample) if written else None
+    meshes = [MeshCollider(c["mesh"], out) for c in info.get("colliders", []) if "mesh" in c]
+    box = scene_box(out, info, sample, meshes) if written else None
     if frames:
         os.makedirs(os.path.join(out, "renders"), exist_ok=True)
     for fr in frames:
         if fr not in written:
             print("render_sim: %s missing, skipped" % os.path.join(fdir, "frame_%04d.obj" % fr), file=sys.stderr)
             continue
-        render(os.path.join(fdir, "frame_%04d.obj" % fr), info, os.path.join(out, "renders", "frame_%04d.png" % fr),
+        render(os.path.join(fdir, "frame_%04d.obj" % fr), info, meshes, frame_time(info, fr),
+               os.path.join(out, "renders", "frame_%04d.png" % fr),
                "%s, frame %d" % (name, fr), box)
     if "--mp4" in args and written:
-        video(out, info, name, written, box)
+        video(out, info, meshes, name, written, box)
     sc = os.path.join(out, "stretch.csv")
     if os.path.exists(sc):
         stretch_plot(sc, os.path.join(out, "stretch.png"), name)

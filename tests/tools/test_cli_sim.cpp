@@ -3,7 +3,8 @@
 // trained and baked model stays finite for 90 steps of 1/30 s and ends resting on the sphere,
 // and off centre stays on it with friction and slides off without;
 // the baked model exported to HYLC's format simulates the same; a scene file with a moving
-// handle runs; bad inputs are refused with the file, key or option named.
+// handle runs; the renderer puts a moving capsule and a moving mesh collider where the
+// simulator has them at each frame; bad inputs are refused with the file, key or option named.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "tests/common/csv_rows.hpp"
@@ -78,9 +80,21 @@ std::array<double, 3> centre_of_mass(const std::vector<std::array<double, 3>>& v
   return c;
 }
 
-bool have_matplotlib() {
-  return std::system("/usr/bin/python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0 ||
-         std::system("python3 -c 'import matplotlib, numpy' >/dev/null 2>&1") == 0;
+// A Python with matplotlib and numpy ("" when none), as sim looks for one.
+std::string python_with_matplotlib() {
+  for (const char* py : {"/usr/bin/python3", "python3"})
+    if (std::system((std::string(py) + " -c 'import matplotlib, numpy' >/dev/null 2>&1").c_str()) == 0) return py;
+  return "";
+}
+
+bool have_matplotlib() { return !python_with_matplotlib().empty(); }
+
+// A 0.12 m square plate at height z (four triangles around its centre).
+void write_plate(const std::string& path, double z, double y = 0) {
+  std::ofstream f(path);
+  for (auto [x, yy] : {std::pair{-0.06, -0.06}, {0.06, -0.06}, {0.06, 0.06}, {-0.06, 0.06}, {0.0, 0.0}})
+    f << "v " << x << " " << y + yy << " " << z << "\n";
+  f << "f 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
 }
 
 }  // namespace
@@ -257,6 +271,53 @@ TEST(CliSim, SceneFileWithAMovingHandleRuns) {
   fs::remove_all(d);
 }
 
+TEST(CliSim, RendersDrawMovingCollidersWhereTheSimulatorHasThem) {
+  // A sheet floating (no gravity) over a plate that rises frame by frame (OBJ frames 0.1 s
+  // apart, scaled by 2 and moved 1 cm up) beside a capsule moving away along y.
+  const std::string d = tmpdir("movers");
+  std::ofstream(d + "/mat.json") << hylc_json(0.3);
+  for (int k = 0; k < 3; ++k) write_plate(d + "/p" + std::to_string(k) + ".obj", -0.05 + 0.01 * k);
+  std::ofstream(d + "/scene.json") << R"({
+    "mesh": {"rectangle": {"width": 0.1, "height": 0.1, "nx": 4, "ny": 4}}, "material": "mat.json",
+    "position": {"translate": [-0.05, -0.05, 0]}, "gravity": [0, 0, 0],
+    "colliders": [{"mesh": {"frames": ["p0.obj", "p1.obj", "p2.obj"], "frame_dt": 0.1, "scale": 2, "translate": [0, 0, 0.01]}},
+                  {"capsule": {"a": [-0.1, 0.3, 0], "b": [0.1, 0.3, 0], "radius": 0.01, "path": [[0, 0, 0, 0], [0.3, 0, 0.12, 0]]}}],
+    "dt": 0.05, "frames": 6, "render": [3, 6]
+  })";
+  auto r = yarnhom::test::run_shell("YARNHOM_NO_VIDEO=1 " + std::string(YARNHOM_BINARY) + " sim " + d + "/scene.json -o " + d + "/out -q");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream in(d + "/out/scene_info.json");
+  const std::string info((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(info.find("\"frame_time\": 0.05"), std::string::npos) << info;
+  EXPECT_NE(info.find("\"path\""), std::string::npos) << info;
+  EXPECT_NE(info.find(fs::absolute(d + "/p2.obj").lexically_normal().string()), std::string::npos) << info;
+  const std::string py = python_with_matplotlib();
+  if (py.empty()) GTEST_SKIP() << "no Python with matplotlib: the renders are not drawn";
+  EXPECT_TRUE(fs::exists(d + "/out/renders/frame_0003.png"));
+  EXPECT_TRUE(fs::exists(d + "/out/renders/frame_0006.png"));
+  // The renderer's colliders at frames 0, 3 and 6 (t = 0, 0.15, 0.3 s): the capsule's end a
+  // (y = 0.3 + 0.4 t) and the plate's centre (z = 2 (-0.05 + 0.1 t) + 0.01, held at the last
+  // frame from t = 0.2 s), as the simulator moves them (sim/obstacles.cpp).
+  const std::string script = "import sys, json; sys.path.insert(0, '" + std::string(YARNHOM_SOURCE_DIR) +
+                             "/scripts/plot'); import render_sim as r; out = '" + d +
+                             "/out'; info = json.load(open(out + '/scene_info.json')); "
+                             "ms = [r.MeshCollider(c['mesh'], out) for c in info['colliders'] if 'mesh' in c]\n"
+                             "for f in (0, 3, 6):\n"
+                             "  p = {c[0]: c for c in r.collider_poses(info, ms, r.frame_time(info, f))}\n"
+                             "  print('%.9f %.9f' % (p['capsule'][1][1], p['mesh'][1][:, :, 2].max()))\n";
+  std::ofstream(d + "/poses.py") << script;
+  r = yarnhom::test::run_shell(py + " " + d + "/poses.py");
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::istringstream lines(r.out);
+  for (double t : {0.0, 0.15, 0.3}) {
+    double cap_y = 0, plate_z = 0;
+    ASSERT_TRUE(lines >> cap_y >> plate_z) << r.out;
+    EXPECT_NEAR(cap_y, 0.3 + 0.4 * t, 1e-9) << "t = " << t;
+    EXPECT_NEAR(plate_z, 2 * (-0.05 + 0.1 * std::min(t, 0.2)) + 0.01, 1e-9) << "t = " << t;
+  }
+  fs::remove_all(d);
+}
+
 TEST(CliSim, BadInputsAreRefusedNamingTheProblem) {
   const std::string d = tmpdir("bad");
   std::ofstream(d + "/mat.json") << hylc_json(0.0);
@@ -294,5 +355,14 @@ TEST(CliSim, BadInputsAreRefusedNamingTheProblem) {
   r = run("sim drape -o " + d + "/o");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("--material"), std::string::npos) << r.out;
+  // A body OBJ for the T-shirt: only for tshirt, and not through its panels (a plate in front
+  // of the torso at y = 0.25 m, where the front panel starts at 0.16 m).
+  write_plate(d + "/front.obj", 1.0, 0.25);
+  r = run("sim drape -o " + d + "/o --material " + d + "/mat.json --body " + d + "/front.obj");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("--body applies to the built-in tshirt scene only"), std::string::npos) << r.out;
+  r = run("sim tshirt -o " + d + "/o --material " + d + "/mat.json --body " + d + "/front.obj");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.out.find("--body: " + d + "/front.obj: vertex 1"), std::string::npos) << r.out;
   fs::remove_all(d);
 }

@@ -123,6 +123,12 @@ CLI::App* declare_sim(CLI::App& app, const std::shared_ptr<sim::SimRunOptions>& 
                   "Built-in scenes: quads along the sheet's side (drape 40, hang 30, fold 24) or across the strip "
                   "(stretch 10); tshirt: grid refinement k, spacing 8 cm / k (default 4: 3,010 vertices; 9: 14.7k, the paper's size)")
       ->check(CLI::Range(1, 2000));
+  cmd->add_option("--body", o->body,
+                  "tshirt: a body OBJ (metres, a static triangle mesh) that wears the T-shirt instead of the mannequin "
+                  "of capsules; it must stand in the mannequin's frame: z up, facing +y, torso axis on x = y = 0, "
+                  "arms held out sideways at z = 1.34 m, clear of the panels (|y| < 0.15 m under them); friction 0.3. "
+                  "To scale, move or animate it, use a scene file (docs/sim.md, \"Garments\")")
+      ->check(existing_regular_file());
   add_stretch_options(cmd, *o);
   add_integrator_options(cmd, *o);
   add_solver_options(cmd, *o);

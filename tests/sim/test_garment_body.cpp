@@ -1,0 +1,167 @@
+// The T-shirt worn by a body OBJ (sim/garment.hpp): the capsule mannequin tessellated into a
+// closed triangle mesh (sim/obstacles.hpp), written as an OBJ and named by a scene file's
+// "colliders" beside "mesh": {"garment": "tshirt"}; every frame checked with the exact
+// triangle-triangle test (cloth-cloth and cloth-body), the shirt ends sewn and resting on the
+// body's shoulders. A body placed across the panels, and garment keys out of place, are refused
+// naming the file and the key.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "sim/contact.hpp"
+#include "sim/garment.hpp"
+#include "sim/scene_json.hpp"
+#include "sim/simulation.hpp"
+#include "tests/common/poly_material.hpp"
+
+using namespace yarnhom;
+using namespace yarnhom::sim;
+namespace fs = std::filesystem;
+
+namespace {
+
+const MaterialFn& material() {
+  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
+  return m;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("yarnhom_garment_" + std::to_string(::getpid()) + "_" + name);
+  fs::create_directories(d);
+  return d;
+}
+
+void write_text(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
+
+// The message of what f throws ("" when it does not).
+template <class F>
+std::string thrown(F f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(GarmentBody, CapsulesTessellateIntoClosedOutwardShells) {
+  const std::vector<CapsuleObstacle> caps = mannequin_capsules();
+  const int around = 12, rings = 3;
+  const MeshObstacle m = capsules_mesh(caps, around, rings);
+  const Eigen::MatrixX3d& x = m.frames.at(0);
+  const int per = 2 + 2 * rings * around;  // vertices per capsule
+  ASSERT_EQ(x.rows(), per * int(caps.size()));
+  // Every edge in exactly two triangles, once in each direction (closed and consistently
+  // oriented); per shell V - E + F = 2.
+  std::map<std::pair<int, int>, int> directed;
+  for (int t = 0; t < m.tris.rows(); ++t)
+    for (int i = 0; i < 3; ++i) ++directed[{m.tris(t, i), m.tris(t, (i + 1) % 3)}];
+  for (const auto& [e, n] : directed) {
+    EXPECT_EQ(n, 1) << "edge " << e.first << "-" << e.second;
+    EXPECT_EQ(directed.count({e.second, e.first}), 1u) << "edge " << e.first << "-" << e.second << " has one side";
+  }
+  const long E = long(directed.size()) / 2;
+  EXPECT_EQ(long(x.rows()) - E + long(m.tris.rows()), 2L * long(caps.size()));
+  // Each shell: vertices on the capsule's surface, outward (positive signed volume), its volume
+  // a little under the capsule's (inscribed).
+  for (size_t c = 0; c < caps.size(); ++c) {
+    const Eigen::Vector3d a = caps[c].a, b = caps[c].b;
+    for (int v = int(c) * per; v < int(c + 1) * per; ++v) {
+      const Eigen::Vector3d p = x.row(v).transpose();
+      const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      EXPECT_NEAR((p - (a + s * (b - a))).norm(), caps[c].radius, 1e-12);
+    }
+    double vol = 0;
+    for (int t = 0; t < m.tris.rows(); ++t)
+      if (m.tris(t, 0) / per == int(c))
+        vol += x.row(m.tris(t, 0)).dot(x.row(m.tris(t, 1)).cross(x.row(m.tris(t, 2)))) / 6;
+    const double r = caps[c].radius, exact = M_PI * r * r * ((b - a).norm() + 4 * r / 3);
+    EXPECT_GT(vol, 0.85 * exact) << "capsule " << c;
+    EXPECT_LT(vol, exact) << "capsule " << c;
+  }
+}
+
+TEST(GarmentBody, TshirtWornByABodyObjNeverIntersectsAndRestsOnTheShoulders) {
+  // The mannequin as an OBJ body; the coarsest T-shirt sewn over 0.2 s, then 0.4 s under
+  // gravity (free fall would drop it 0.8 m).
+  const fs::path d = scratch("wear");
+  write_obstacle_obj((d / "body.obj").string(), capsules_mesh(mannequin_capsules(), 16, 4));
+  write_text(d / "scene.json", R"({"mesh": {"garment": "tshirt", "resolution": 1},
+    "colliders": [{"mesh": {"obj": "body.obj"}, "friction": 0.3}], "self_collision": {"friction": 0.2},
+    "seams": {"sew_time": 0.2, "gravity_delay": 0.2}, "areal_density": 0.2, "frames": 18})");
+  const Scene s = read_scene_json((d / "scene.json").string());
+  ASSERT_TRUE(s.obstacles.capsules.empty());
+  ASSERT_EQ(s.obstacles.meshes.size(), 1u);
+  ASSERT_GT(s.stitches.size(), 20u);
+  EXPECT_EQ(s.stitches.size(), tshirt_scene(1).stitches.size());
+  Problem P = make_problem(s.mesh, material(), 0.2);
+  P.obstacles = s.obstacles;
+  finish_obstacles(P.obstacles);
+  P.self_collision = true;
+  P.dhat = s.dhat;
+  P.edges = cloth_edges(P.mesh);
+  P.vertex_rep = stitch_representatives(P.mesh.num_vertices(), s.stitches);
+  int checked = 0;
+  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+    std::string what;
+    EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
+    ++checked;
+  });
+  ASSERT_TRUE(r.finite);
+  EXPECT_EQ(checked, 18);
+  double gap = 0;
+  for (const Stitch& st : s.stitches) gap = std::max(gap, (r.x.segment<3>(3 * st.a) - r.x.segment<3>(3 * st.b)).norm());
+  EXPECT_LT(gap, 0.01);  // every seam within 1 cm (started 32 cm apart)
+  // The shoulders' and sleeves' top seam (the stitches at the panels' top, z = 1.50 m at the
+  // start) rests on the body: above the arms' axis (z = 1.34 m), below the start.
+  int top = 0;
+  for (const Stitch& st : s.stitches) {
+    if (s.mesh.x(st.a, 2) < 1.5 - 1e-9) continue;
+    ++top;
+    const double z = r.x[3 * st.a + 2];
+    EXPECT_GT(z, 1.34) << "stitch " << st.a << "-" << st.b;
+    EXPECT_LT(z, 1.48) << "stitch " << st.a << "-" << st.b;
+  }
+  EXPECT_GE(top, 10);
+  // No vertex fell: the lowest is within a few cm of the hem's start (0.86 m).
+  double lowest = INFINITY;
+  for (int v = 0; v < P.mesh.num_vertices(); ++v) lowest = std::min(lowest, r.x[3 * v + 2]);
+  EXPECT_GT(lowest, 0.76);
+  fs::remove_all(d);
+}
+
+TEST(GarmentBody, BodyAcrossThePanelsAndMisplacedKeysAreRefusedByName) {
+  const fs::path d = scratch("bad");
+  write_obstacle_obj((d / "body.obj").string(), capsules_mesh(mannequin_capsules(), 8, 2));
+  auto scene = [&](const std::string& name, const std::string& text) {
+    write_text(d / name, text);
+    return thrown([&] { read_scene_json((d / name).string()); });
+  };
+  // Moved 5 cm forward, the torso (radius 0.12 m) reaches y = 0.17 m, through the front panel.
+  std::string m = scene("fwd.json", R"({"mesh": {"garment": "tshirt", "resolution": 1},
+    "colliders": [{"mesh": {"obj": "body.obj", "translate": [0, 0.05, 0]}}]})");
+  EXPECT_NE(m.find("fwd.json"), std::string::npos) << m;
+  EXPECT_NE(m.find("colliders[0].mesh"), std::string::npos) << m;
+  EXPECT_NE(m.find("body.obj"), std::string::npos) << m;
+  EXPECT_NE(m.find("panels"), std::string::npos) << m;
+  // The same body in place is accepted, with the mannequin too if asked.
+  EXPECT_EQ(scene("ok.json", R"({"mesh": {"garment": "tshirt", "resolution": 1, "mannequin": true},
+    "colliders": [{"mesh": {"obj": "body.obj"}}]})"), "");
+  m = scene("pos.json", R"({"mesh": {"garment": "tshirt"}, "position": {"translate": [0, 0, 1]}})");
+  EXPECT_NE(m.find("position"), std::string::npos) << m;
+  m = scene("res.json", R"({"mesh": {"rectangle": {"width": 1, "height": 1, "nx": 2, "ny": 2}, "resolution": 2}})");
+  EXPECT_NE(m.find("mesh.resolution"), std::string::npos) << m;
+  m = scene("kind.json", R"({"mesh": {"garment": "dress"}})");
+  EXPECT_NE(m.find("mesh.garment"), std::string::npos) << m;
+  m = scene("both.json", R"({"mesh": {"garment": "tshirt", "obj": "body.obj"}})");
+  EXPECT_NE(m.find("mesh"), std::string::npos) << m;
+  EXPECT_NE(m.find("garment"), std::string::npos) << m;
+  fs::remove_all(d);
+}
