@@ -228,7 +228,6 @@ def render(obj, info, meshes, t, out_png, title, box, dpi=110):
                 ax.plot_surface(xs, ys, np.full_like(xs, p[2]), color="0.85", alpha=0.5, zorder=0)
     polys, colours = list(tris), list(shade(tris))
     d = view_dir()
-    grey = (0.72, 0.74, 0.78)
     for c in collider_poses(info, meshes, t):
         if c[0] == "capsule":
             a, b, r = c[1], c[2], c[3]
@@ -252,10 +251,7 @@ def render(obj, info, meshes, t, out_png, title, box, dpi=110):
         q, mid = q[front], mid[front]
         keep = ~hidden_by(mid + 1e-4 * r * d, tris, d)  # not behind the cloth
         polys += list(q[keep])
-        if c[0] == "mesh":  # shaded, so that a body's shape shows
-            colours += list(shade(q[keep], (0.8, 0.82, 0.86)))
-        else:
-            colours += [grey] * int(keep.sum())
+        colours += list(shade(q[keep], (0.8, 0.82, 0.86)))  # shaded, so that a collider's shape shows
     pc = Poly3DCollection(polys, facecolors=colours, edgecolors=colours, linewidths=0.2, zorder=1)  # no seams
     ax.add_collection3d(pc)
     mid, half = (lo + hi) / 2, max((hi - lo).max() / 2, 1e-3)
