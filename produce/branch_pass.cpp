@@ -163,7 +163,9 @@ class BranchPass {
       std::vector<BranchJob> jobs;
       for (size_t k = 0; k < targets.size(); ++k) jobs.push_back(job(targets[k], sources.at(targets[k]), best[k]));
       std::vector<BranchMove> moves = run_.branch_round(
-          round, jobs, [&](const std::vector<const BranchMove*>& known) { return ahead(round, sources, targets, known); });
+          round, jobs, [&](const std::vector<const BranchMove*>& known, const BranchSolved& solved) {
+            return ahead(round, sources, targets, known, solved);
+          });
       round_moved_ = int(std::count_if(moves.begin(), moves.end(), [](const BranchMove& m) { return m.moved; }));
       return moves;
     }
@@ -193,54 +195,84 @@ class BranchPass {
     return j;
   }
 
-  // While a round runs on the ranks (BranchPredict, produce_pass.hpp): the next round's jobs as
-  // it would form them if none of the unfinished targets moves, kept only where the target and
-  // its grid neighbours are all finished (an unfinished one could still change its sources,
-  // its energy or the pairs tried). The round is applied to the nodes as far as it is known,
-  // the next round's sources taken, and everything put back as it was. (The edges' typical
-  // change is a mean over the term, so an unfinished move can still change an edge far away:
-  // rank 0 uses a job solved ahead only if the next round asks exactly it.)
-  std::vector<BranchJob> ahead(int round, const std::map<int, std::vector<int>>& sources,
-                               const std::vector<int>& targets, const std::vector<const BranchMove*>& known) {
-    if (round + 1 > opt_.branch_rounds) return {};
-    std::set<int> open;
+  // While a round runs on the ranks (BranchPredict, produce_pass.hpp): the jobs of the next
+  // rounds as they would be formed if none of the unfinished jobs moves, kept only where nothing
+  // unfinished can change them. A node whose state after a round is not known: a target of that
+  // round not finished (or not solved ahead), and any node whose own status in that round was
+  // not certain. A job of the next round is certain when neither its target nor a grid
+  // neighbour is such a node (they decide its sources, its energy and the pairs tried). Each
+  // round is applied to the nodes as far as it is known, the next one's sources taken, and so on
+  // while a known job moved (else the pass may end there); then everything is put back as it
+  // was. (The edges' typical change is a mean over the term, so an unfinished move can still
+  // change an edge far away: rank 0 uses a job solved ahead only if its round asks exactly it.)
+  std::vector<AheadJob> ahead(int round, const std::map<int, std::vector<int>>& sources, const std::vector<int>& targets,
+                              const std::vector<const BranchMove*>& known, const BranchSolved& solved) {
+    std::set<int> unknown;
     bool any_moved = false;
     std::vector<BranchMove> moves(targets.size());
     for (size_t k = 0; k < targets.size(); ++k) {
-      if (!known[k]) open.insert(targets[k]);
+      if (!known[k]) unknown.insert(targets[k]);
       else moves[k] = *known[k], any_moved |= known[k]->moved;
     }
-    if (!any_moved) return {};  // the pass may end with this round
     struct Saved {
+      int node;
       double psi, seconds, cpu_seconds, min_separation;
       Strain grad;
       int iterations;
-      bool moved;
+      bool moved, state_changed;
       std::shared_ptr<const RveState> state;
     };
     std::vector<Saved> saved;
-    for (int t : targets) {
-      const ProduceNode& n = nodes_[t];
-      saved.push_back({n.psi, n.seconds, n.cpu_seconds, n.min_separation, n.grad, n.iterations, n.moved, run_.final_state[t]});
-    }
+    auto hypothetical = [&](const std::map<int, std::vector<int>>& src, const std::vector<int>& tg,
+                            const std::vector<BranchMove>& mv) {
+      for (size_t k = 0; k < tg.size(); ++k) {
+        const ProduceNode& n = nodes_[tg[k]];
+        saved.push_back({tg[k], n.psi, n.seconds, n.cpu_seconds, n.min_separation, n.grad, n.iterations, n.moved,
+                         mv[k].moved, run_.final_state[tg[k]]});
+      }
+      apply_round(src, tg, mv, false);
+    };
     const auto moved_last = moved_last_;
     const auto tried = tried_;
     const auto min_gain = min_gain_;
-    apply_round(sources, targets, moves, false);
-    std::map<int, std::vector<int>> next = round_sources();
-    load_source_states(next);
-    std::vector<BranchJob> jobs;
-    for (const auto& [target, from] : next) {
-      bool certain = !open.count(target);
-      for (int nb : neighbours_[target]) certain = certain && !open.count(nb);
-      if (certain) jobs.push_back(job(target, from, nodes_[target].psi - min_gain_.at(target)));
+    std::vector<AheadJob> jobs;
+    // Nodes whose status in the next round is not certain: the unknown ones and their neighbours.
+    auto spread = [&](const std::set<int>& u) {
+      std::set<int> v = u;
+      for (int x : u) v.insert(neighbours_[x].begin(), neighbours_[x].end());
+      return v;
+    };
+    hypothetical(sources, targets, moves);
+    std::set<int> uncertain = spread(unknown);
+    for (int r = round + 1; any_moved && r <= opt_.branch_rounds; ++r) {
+      std::map<int, std::vector<int>> next = round_sources();
+      load_source_states(next);
+      std::vector<int> next_targets;
+      std::vector<BranchMove> next_moves;
+      std::set<int> not_solved;
+      any_moved = false;
+      for (const auto& [target, from] : next) {
+        next_targets.push_back(target);
+        next_moves.emplace_back();
+        if (uncertain.count(target)) continue;
+        BranchJob j = job(target, from, nodes_[target].psi - min_gain_.at(target));
+        if (const BranchMove* m = solved(r, j)) {
+          next_moves.back() = *m;
+          any_moved |= m->moved;
+        } else {
+          not_solved.insert(target);
+          jobs.push_back({r, std::move(j)});
+        }
+      }
+      not_solved.insert(uncertain.begin(), uncertain.end());
+      uncertain = spread(not_solved);
+      hypothetical(next, next_targets, next_moves);
     }
-    for (size_t k = 0; k < targets.size(); ++k) {
-      ProduceNode& n = nodes_[targets[k]];
-      const Saved& v = saved[k];
-      n.psi = v.psi, n.seconds = v.seconds, n.cpu_seconds = v.cpu_seconds, n.min_separation = v.min_separation;
-      n.grad = v.grad, n.iterations = v.iterations, n.moved = v.moved;
-      if (moves[k].moved) run_.final_state[targets[k]] = v.state;  // (states read back stay)
+    for (auto it = saved.rbegin(); it != saved.rend(); ++it) {
+      ProduceNode& n = nodes_[it->node];
+      n.psi = it->psi, n.seconds = it->seconds, n.cpu_seconds = it->cpu_seconds, n.min_separation = it->min_separation;
+      n.grad = it->grad, n.iterations = it->iterations, n.moved = it->moved;
+      if (it->state_changed) run_.final_state[it->node] = it->state;  // (states read back stay)
     }
     moved_last_ = moved_last;
     tried_ = tried;

@@ -3,6 +3,7 @@
 // builds the same nodes and tasks as rank 0 from the same options and relaxes the same rest tile,
 // so a node's solve does not depend on where it runs.
 #include <omp.h>
+#include <time.h>
 
 #include <chrono>
 #include <functional>
@@ -35,6 +36,29 @@ BranchMove move_of(CheckpointRecord&& rec) {
   mv.cpu_seconds = rec.cpu_seconds;
   if (mv.moved) mv.state = std::make_shared<RveState>(std::move(rec.state));
   return mv;
+}
+
+BranchMove combine_sources(double best, const std::vector<BranchMove>& parts) {
+  BranchMove mv;
+  for (const BranchMove& p : parts) {
+    mv.seconds += p.seconds;
+    mv.cpu_seconds += p.cpu_seconds;
+    mv.iterations += p.iterations;
+    if (p.moved && p.psi < best) {
+      best = p.psi;
+      mv.moved = true;
+      mv.psi = p.psi;
+      mv.grad = p.grad;
+      mv.state = p.state;
+    }
+  }
+  return mv;
+}
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
 void Mailbox::push(std::string m) {

@@ -6,13 +6,12 @@
 // rank 0 too, on a thread beside the coordinator (produce_cluster.hpp, cluster_solver.cpp).
 //
 // The branch rounds overlap: while a round's last jobs run, the ranks left without work solve
-// the next round's jobs that the finished ones already decide (BranchPredict, produce_pass.hpp),
-// and the next round, formed exactly as in one process, takes such a result only where it asks
-// the very same job (target, threshold and source states). A job's result depends only on those,
-// so the dataset is the one-process dataset, bit for bit, at any number of ranks; a killed run
-// resumes from rank 0's checkpoint with any other.
-#include <time.h>
-
+// the jobs of the next rounds that the finished ones already decide (BranchPredict,
+// produce_pass.hpp; several rounds deep where those are solved ahead too), and each round,
+// formed exactly as in one process, takes such a result only where it asks the very same job
+// (target, threshold and source states). A job's result depends only on those, so the dataset is
+// the one-process dataset, bit for bit, at any number of ranks; a killed run resumes from rank
+// 0's checkpoint with any other.
 #include <algorithm>
 #include <chrono>
 #include <cstring>
@@ -36,12 +35,6 @@ CheckpointRecord state_record(const ProduceNode& n, const RveState& st) {
   return rec;
 }
 
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
-
 class Coordinator {
  public:
   explicit Coordinator(ProduceRun& run)
@@ -63,7 +56,7 @@ class Coordinator {
     branch_pass(run_);
     // Jobs solved ahead for a round that never came: their ranks finish them first.
     while (idle_count() < ranks_) handle(next_message());
-    for (const auto& [target, id] : ahead_) lose(jobs_.at(id));
+    for (const auto& [key, id] : ahead_) lose(jobs_.at(id));
     for (int r = 1; r < ranks_; ++r) cluster::send(r, kToWorker, Pack(kStop).b);
     local_.reset();
     ProduceReport& rep = run_.rep;
@@ -92,6 +85,7 @@ class Coordinator {
     BranchJob in;
     Use use = Use::kRound;
     size_t k = 0;
+    BranchMove combined;            // solved ahead: its move, once every part is in
     std::vector<BranchMove> part;   // by source
     std::vector<int> part_rank;     // the rank it went to (-1: none yet)
     std::vector<double> part_busy;  // its solve's seconds there
@@ -170,7 +164,9 @@ class Coordinator {
           terms_changed_ = false;
           std::vector<bool> complete(term_todo_.size());
           for (size_t t = 0; t < term_todo_.size(); ++t) complete[t] = term_todo_[t] == 0;
-          set_later(first_round_ahead(run_, complete));
+          std::vector<AheadJob> first;
+          for (BranchJob& j : first_round_ahead(run_, complete)) first.push_back({1, std::move(j)});
+          set_later(std::move(first));
         }
         if (!give_ahead(r)) break;
       }
@@ -345,27 +341,12 @@ class Coordinator {
     j.part_busy.assign(n, 0.0);
     for (size_t i = 0; i < n; ++i)
       if (in.states[i]) ++j.left, queue.push_back({next_id_, int(i)});
+    if (j.left == 0) j.combined = combine(j);
     jobs_[next_id_] = std::move(j);
     return next_id_++;
   }
 
-  BranchMove combine(const Job& j) const {
-    BranchMove mv;
-    double best = j.in.best;
-    for (const BranchMove& p : j.part) {
-      mv.seconds += p.seconds;
-      mv.cpu_seconds += p.cpu_seconds;
-      mv.iterations += p.iterations;
-      if (p.moved && p.psi < best) {
-        best = p.psi;
-        mv.moved = true;
-        mv.psi = p.psi;
-        mv.grad = p.grad;
-        mv.state = p.state;
-      }
-    }
-    return mv;
-  }
+  BranchMove combine(const Job& j) const { return combine_sources(j.in.best, j.part); }
 
   // The next part still wanted from a queue.
   bool pop_part(std::deque<Part>& queue, Use use, Part& p) {
@@ -425,19 +406,49 @@ class Coordinator {
     --j.left;
     if (j.use == Use::kRound && j.left == 0) {
       finish(id);
+    } else if (j.use == Use::kAhead && j.left == 0) {
+      j.combined = combine(j);
+      changed_ = true;  // a later round's look ahead may go deeper now
     } else if (j.use == Use::kDropped) {
       load_[source].ahead_lost += busy;
       if (j.out == 0) jobs_.erase(it);
     }
   }
 
-  // The jobs that may be solved ahead of their round, the fewest sources last (handed out first).
-  void set_later(std::vector<BranchJob> jobs) {
-    jobs.erase(std::remove_if(jobs.begin(), jobs.end(), [&](const BranchJob& j) { return ahead_.count(j.target) > 0; }),
-               jobs.end());
-    std::stable_sort(jobs.begin(), jobs.end(),
-                     [](const BranchJob& a, const BranchJob& b) { return a.from.size() < b.from.size(); });
-    later_ = std::move(jobs);
+  // The jobs that may be solved ahead of their round: handed out the earliest round first, then
+  // the fewest sources. One solved ahead for the same round and target with other inputs (an
+  // earlier look that the finished jobs have since corrected) is dropped.
+  void set_later(std::vector<AheadJob> jobs) {
+    std::vector<AheadJob> keep;
+    for (AheadJob& a : jobs) {
+      auto it = ahead_.find({a.round, a.job.target});
+      if (it != ahead_.end()) {
+        if (same_job(jobs_.at(it->second).in, a.job)) continue;
+        drop(it->second);
+        ahead_.erase(it);
+      }
+      keep.push_back(std::move(a));
+    }
+    std::stable_sort(keep.begin(), keep.end(), [](const AheadJob& a, const AheadJob& b) {
+      return a.round != b.round ? a.round > b.round : a.job.from.size() < b.job.from.size();
+    });
+    later_ = std::move(keep);
+  }
+
+  void drop(uint64_t id) {
+    Job& j = jobs_.at(id);
+    j.use = Use::kDropped;
+    lose(j);
+    if (j.out == 0) jobs_.erase(id);
+  }
+
+  // A later round's job solved ahead with exactly these inputs: its move (null: none, or not all
+  // its parts are in).
+  const BranchMove* solved(int round, const BranchJob& in) const {
+    auto it = ahead_.find({round, in.target});
+    if (it == ahead_.end()) return nullptr;
+    const Job& j = jobs_.at(it->second);
+    return j.left == 0 && same_job(j.in, in) ? &j.combined : nullptr;
   }
 
   bool give_ahead(int r) {
@@ -447,7 +458,8 @@ class Coordinator {
         return true;
       }
       if (later_.empty()) return false;
-      ahead_[later_.back().target] = new_job(later_.back(), Use::kAhead, 0, ahead_parts_);
+      const AheadJob& a = later_.back();
+      ahead_[{a.round, a.job.target}] = new_job(a.job, Use::kAhead, 0, ahead_parts_);
       later_.pop_back();
       ++ahead_solved_;
     }
@@ -463,7 +475,7 @@ class Coordinator {
     std::vector<size_t> queue;
     std::vector<uint64_t> complete;
     for (size_t k = 0; k < jobs.size(); ++k) {
-      auto a = ahead_.find(jobs[k].target);
+      auto a = ahead_.find({round, jobs[k].target});
       if (a != ahead_.end() && same_job(jobs_.at(a->second).in, jobs[k])) {
         Job& j = jobs_.at(a->second);
         ++ahead_used_;
@@ -477,17 +489,23 @@ class Coordinator {
       }
     }
     for (uint64_t id : complete) finish(id);
-    for (const auto& [target, id] : ahead_) {
-      Job& j = jobs_.at(id);
-      j.use = Use::kDropped;
-      lose(j);
-      if (j.out == 0) jobs_.erase(id);
+    // Those solved for this round that it did not ask (those of later rounds wait for theirs).
+    for (auto it = ahead_.begin(); it != ahead_.end();) {
+      if (it->first.first > round) break;
+      drop(it->second);
+      it = ahead_.erase(it);
     }
-    ahead_.clear();
-    // The parts of the adopted jobs not handed out yet come first in this round's queue.
+    // The parts of the adopted jobs not handed out yet come first in this round's queue; those of
+    // later rounds' jobs stay where they are.
     round_parts_.clear();
-    for (Part p; pop_part(ahead_parts_, Use::kRound, p);) round_parts_.push_back(p);
-    ahead_parts_.clear();
+    std::deque<Part> later_parts;
+    for (const Part& p : ahead_parts_) {
+      auto it = jobs_.find(p.first);
+      if (it == jobs_.end()) continue;
+      if (it->second.use == Use::kRound) round_parts_.push_back(p);
+      else if (it->second.use == Use::kAhead) later_parts.push_back(p);
+    }
+    ahead_parts_ = std::move(later_parts);
     // Then the jobs with the most sources first, so that the round does not end on one of them.
     std::stable_sort(queue.begin(), queue.end(),
                      [&](size_t a, size_t b) { return jobs[a].from.size() > jobs[b].from.size(); });
@@ -514,7 +532,7 @@ class Coordinator {
           for (size_t k = 0; k < jobs.size(); ++k)
             if (have_[k]) known[k] = &round_moves_[k];
           const double t0 = run_.elapsed();
-          set_later(next(known));
+          set_later(next(known, [this](int r, const BranchJob& in) { return solved(r, in); }));
           next_look_ = run_.elapsed() + 4 * (run_.elapsed() - t0);
         }
         if (!give_ahead(r)) break;
@@ -545,8 +563,8 @@ class Coordinator {
   // The branch pass: jobs on the ranks by id, those solved ahead by target, the round running.
   std::map<uint64_t, Job> jobs_;
   uint64_t next_id_ = 0;
-  std::map<int, uint64_t> ahead_;
-  std::vector<BranchJob> later_;    // the next round's jobs that may be solved ahead
+  std::map<std::pair<int, int>, uint64_t> ahead_;  // (round, target) -> job solved ahead
+  std::vector<AheadJob> later_;     // later rounds' jobs that may be solved ahead
   std::deque<Part> round_parts_, ahead_parts_;  // parts to hand out
   int round_ = 0, finished_ = 0, moved_ = 0;
   double round_longest_ = 0;  // the round's longest solve (of one source)

@@ -72,6 +72,14 @@ struct Unpack {
 CheckpointRecord move_record(const BranchMove& mv);
 BranchMove move_of(CheckpointRecord&& rec);
 
+// A branch job's result from its sources' solves apart (each a branch_solve from that source
+// alone, below best), as branch_solve from all of them in that order gives it: a source wins
+// when it moved and lies below every earlier winner.
+BranchMove combine_sources(double best, const std::vector<BranchMove>& parts);
+
+// The calling thread's CPU seconds.
+double thread_cpu_seconds();
+
 // Messages handed from one thread to another, in order.
 class Mailbox {
  public:

@@ -69,12 +69,20 @@ struct BranchJob {
   std::vector<int> from;                                 // the sources' node ids, ascending
   std::vector<std::shared_ptr<const RveState>> states;   // their equilibria (null: none kept)
 };
-// Given the moves of the round so far (known[k] null: job k not finished), the jobs of the next
-// round that no unfinished job can change, as the next round will ask them if none of the
-// unfinished jobs moves (empty when that round cannot follow). Whatever this says, the next
-// round is formed as in one process; a job solved ahead counts only if the round asks exactly
-// it (same target, best and source states).
-using BranchPredict = std::function<std::vector<BranchJob>(const std::vector<const BranchMove*>& known)>;
+// A job of a later round (round), to be solved ahead of it.
+struct AheadJob {
+  int round = 0;
+  BranchJob job;
+};
+// Given the moves of the round so far (known[k] null: job k not finished) and those of the jobs
+// of later rounds already solved ahead (solved(round, job): the move if exactly that job was
+// solved for that round, else null), the jobs of the following rounds that no unfinished job
+// can change, as those rounds will ask them if none of the unfinished jobs moves (none for a
+// round that may not follow). Whatever this says, each round is formed as in one process; a job
+// solved ahead counts only if its round asks exactly it (same target, best and source states).
+using BranchSolved = std::function<const BranchMove*(int round, const BranchJob& job)>;
+using BranchPredict =
+    std::function<std::vector<AheadJob>(const std::vector<const BranchMove*>& known, const BranchSolved& solved)>;
 
 // A node's checkpoint record, without its state.
 CheckpointRecord record_of(const ProduceNode& n, const std::string& status);
@@ -106,7 +114,7 @@ struct ProduceRun {
   std::map<int, CheckpointRecord> resumed_states;
   // On rank 0 of an MPI run: a branch round's jobs solved on the ranks (null: on this process's
   // threads), one move per job. While the round runs, `next` tells which jobs of the next
-  // round are already certain to be asked (produce_cluster.cpp solves them ahead).
+  // rounds are already certain to be asked (produce_cluster.cpp solves them ahead).
   std::function<std::vector<BranchMove>(int round, const std::vector<BranchJob>& jobs, const BranchPredict& next)>
       branch_round;
   std::mutex mu;
