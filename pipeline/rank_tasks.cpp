@@ -173,14 +173,19 @@ int RankTasks::add(const std::string& key, const std::string& label, double weig
   return int(tasks_.size()) - 1;
 }
 
-int threads_per_rank() {
+namespace {
+
+int own_cpus() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  const int mine = ::sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 1;
-  const long node = ::sysconf(_SC_NPROCESSORS_ONLN);
-  const int share = int(std::max(1L, node) / std::max(1, cluster::node_size()));
-  return std::max(1, std::min(mine, share));
+  return ::sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : 1;
 }
+
+int node_share() { return int(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)) / std::max(1, cluster::node_size())); }
+
+}  // namespace
+
+int threads_per_rank() { return std::max(1, std::min(own_cpus(), node_share())); }
 
 OnRanks::OnRanks(const fs::path& dir, const std::string& what, const std::function<void(RankTasks&)>& build) {
   if (cluster::size() <= 1) return;
@@ -201,6 +206,10 @@ OnRanks::OnRanks(const fs::path& dir, const std::string& what, const std::functi
   if (cluster::rank() == 0) {
     FILE* out = ::fdopen(::dup(saved), "w");
     if (!out) throw std::runtime_error("cannot write the progress");
+    std::fprintf(out, "each rank's stages: %s thread(s) by default (OMP_NUM_THREADS)\n", std::getenv("OMP_NUM_THREADS"));
+    if (own_cpus() < node_share())
+      std::fprintf(out, "  (mpirun bound rank 0 to %d CPU(s) of the %d per rank on its node, and its stages with it: "
+                   "add --bind-to none, or --map-by slot:PE=C for C cores per rank)\n", own_cpus(), node_share());
     Root(g, out, what).run();
     std::fclose(out);
     std::fflush(stdout);
