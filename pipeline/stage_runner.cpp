@@ -60,6 +60,16 @@ class StageLock {
     if (fd_ < 0) throw std::runtime_error("cannot open the stage lock " + path.string() + ": " + std::strerror(errno));
     bool said = false;
     while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      if (errno == ENOSYS || errno == EOPNOTSUPP || errno == ENOLCK) {
+        // A file system without locks (Lustre mounted without -o flock): one process runs as
+        // before; ranks of one mpirun still run each stage once unless two reach it together.
+        static bool told = false;
+        if (!told)
+          std::fprintf(stderr, "yarnhom: note: %s: this file system has no flock (%s); stages are not locked\n",
+                       path.string().c_str(), std::strerror(errno));
+        told = true;
+        return;
+      }
       if (errno != EWOULDBLOCK && errno != EINTR)
         throw std::runtime_error("cannot lock " + path.string() + ": " + std::strerror(errno));
       if (!said) {
