@@ -1,5 +1,6 @@
 #include "sim/simulation.hpp"
 
+#include <algorithm>
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
@@ -180,16 +181,16 @@ FILE* open_steps_csv(const std::string& dir) {
   if (!csv) throw std::runtime_error(dir + "/steps.csv: cannot write");
   std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
                     "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
-                    "assemble_ms,solve_ms,line_search_ms\n");
+                    "assemble_ms,solve_ms,line_search_ms,obstacle_lag_m\n");
   return csv;
 }
 
 void write_step_row(FILE* csv, const StepRecord& rec) {
-  std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f\n", rec.step,
+  std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f,%.6g\n", rec.step,
                rec.frame, rec.time, rec.iterations, int(rec.converged), rec.backtracks, rec.potential, rec.kinetic,
                rec.max_speed, 1e3 * rec.wall, 1e3 * rec.t_strain, 1e3 * rec.t_material, 1e3 * rec.t_chain,
                1e3 * rec.t_project, 1e3 * rec.t_scatter, rec.projected, 1e3 * rec.t_assemble, 1e3 * rec.t_solve,
-               1e3 * rec.t_line_search);
+               1e3 * rec.t_line_search, rec.obstacle_lag);
   std::fflush(csv);
 }
 
@@ -339,6 +340,10 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
       record_step(rec, st, P, D, x, v, hinges);
       R.obstacles = motion.y;
+      // An obstacle the cloth held back (CCD left no safe move) lags behind its path.
+      if (dynamic && scene.integrator != Integrator::BaraffWitkin && motion.target.size() == motion.y.size())
+        for (Eigen::Index k = 0; k + 2 < motion.y.size(); k += 3)
+          rec.obstacle_lag = std::max(rec.obstacle_lag, (motion.y.segment<3>(k) - motion.target.segment<3>(k)).norm());
       last_potential = rec.potential;
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
       if (R.finite)

@@ -4,7 +4,7 @@
 // Writes into the output folder, each file complete or not at all (written under a temporary
 // name, then renamed), so an interrupted run keeps every finished frame:
 //   frames/frame_NNNN.obj   positions of frame NNNN (texture coordinates in [0, 1]: sim/obj_io.hpp)
-//   steps.csv               one row per step: Newton iterations, energies, speed, wall time
+//   steps.csv               one row per step: Newton iterations, energies, speed, wall time, obstacle lag
 //                           and, with profiling, the time split (docs/sim.md lists the columns)
 //   stretch.csv             stretch scenes: force per clamp width against stretch
 // Frame 0 is the initial state. In a static run frame k is load step k (load parameter k/frames).
@@ -41,6 +41,7 @@ struct StepRecord {
   double t_strain = 0, t_material = 0, t_chain = 0, t_project = 0, t_scatter = 0;  // CPU s in the element loop
   double t_assemble = 0, t_solve = 0, t_line_search = 0;                         // wall s
   long projected = 0, elements = 0;
+  double obstacle_lag = 0;       // m: the farthest an obstacle point ends the step from where its path puts it
 };
 
 struct StretchRow {

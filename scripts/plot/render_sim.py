@@ -269,6 +269,26 @@ def render(obj, info, meshes, t, out_png, title, box, dpi=110):
     plt.close(fig)
 
 
+def obstacle_lags(out):
+    """Per frame, how far (m) the obstacles ended its last step from their path (steps.csv's
+    obstacle_lag_m: the simulator holds back an obstacle that the cloth blocks); {} without."""
+    p = os.path.join(out, "steps.csv")
+    lags = {}
+    if os.path.exists(p):
+        for r in csv.DictReader(open(p)):
+            if r.get("obstacle_lag_m") not in (None, ""):
+                lags[int(r["frame"])] = float(r["obstacle_lag_m"])
+    return lags
+
+
+def title(name, fr, lags):
+    """The picture's title; it says so where the obstacles lag behind the path they are drawn on."""
+    lag = lags.get(fr, 0.0)
+    if lag > 1e-3:
+        return "%s, frame %d\n(obstacles drawn on their path; the simulation held them %.0f mm behind)" % (name, fr, 1e3 * lag)
+    return "%s, frame %d" % (name, fr)
+
+
 def video(out, info, meshes, name, frames, box):
     """OUT/sim.mp4 of the frames (at most 150, evenly spaced) through ffmpeg."""
     if os.environ.get("YARNHOM_NO_VIDEO", "") not in ("", "0"):
@@ -281,12 +301,12 @@ def video(out, info, meshes, name, frames, box):
         return
     pick = sorted(set(frames[int(round(i))] for i in np.linspace(0, len(frames) - 1, min(150, len(frames)))))
     fps = max(2, min(30, round(len(pick) / 4)))  # a short run lasts about 4 s
+    lags = obstacle_lags(out)
     tmp = tempfile.mkdtemp(prefix="video.", dir=out)
     try:
         for k, fr in enumerate(pick):
             render(os.path.join(out, "frames", "frame_%04d.obj" % fr), info, meshes, frame_time(info, fr),
-                   os.path.join(tmp, "%05d.png" % k),
-                   "%s, frame %d" % (name, fr), box, dpi=72)
+                   os.path.join(tmp, "%05d.png" % k), title(name, fr, lags), box, dpi=72)
         part = os.path.join(out, "sim.mp4.part")
         cmd = [ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps), "-i", os.path.join(tmp, "%05d.png"),
                "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-f", "mp4", part]
@@ -343,15 +363,18 @@ def main():
                     | (set(frames) & set(written))) if written else []
     meshes = [MeshCollider(c["mesh"], out) for c in info.get("colliders", []) if "mesh" in c]
     box = scene_box(out, info, sample, meshes) if written else None
+    lags = obstacle_lags(out)
     if frames:
         os.makedirs(os.path.join(out, "renders"), exist_ok=True)
     for fr in frames:
         if fr not in written:
             print("render_sim: %s missing, skipped" % os.path.join(fdir, "frame_%04d.obj" % fr), file=sys.stderr)
             continue
+        if lags.get(fr, 0.0) > 1e-3:
+            print("render_sim: frame %d: the obstacles ended %.0f mm from their path (the cloth held them back); "
+                  "drawn on their path" % (fr, 1e3 * lags[fr]), file=sys.stderr)
         render(os.path.join(fdir, "frame_%04d.obj" % fr), info, meshes, frame_time(info, fr),
-               os.path.join(out, "renders", "frame_%04d.png" % fr),
-               "%s, frame %d" % (name, fr), box)
+               os.path.join(out, "renders", "frame_%04d.png" % fr), title(name, fr, lags), box)
     if "--mp4" in args and written:
         video(out, info, meshes, name, written, box)
     sc = os.path.join(out, "stretch.csv")

@@ -291,6 +291,13 @@ TEST(CliSim, RendersDrawMovingCollidersWhereTheSimulatorHasThem) {
   EXPECT_NE(info.find("\"frame_time\": 0.05"), std::string::npos) << info;
   EXPECT_NE(info.find("\"path\""), std::string::npos) << info;
   EXPECT_NE(info.find(fs::absolute(d + "/p2.obj").lexically_normal().string()), std::string::npos) << info;
+  // Nothing blocked the obstacles: steps.csv's last column, obstacle_lag_m, is 0 at every step.
+  const auto steps = read_csv(d + "/out/steps.csv");
+  ASSERT_EQ(steps.size(), 6u);
+  for (const auto& row : steps) {
+    ASSERT_EQ(row.size(), 20u);
+    EXPECT_EQ(row.back(), 0.0);
+  }
   const std::string py = python_with_matplotlib();
   if (py.empty()) GTEST_SKIP() << "no Python with matplotlib: the renders are not drawn";
   EXPECT_TRUE(fs::exists(d + "/out/renders/frame_0003.png"));
