@@ -28,12 +28,20 @@ struct Chart {
     while (at(k - m, j) == 'S') ++m;
     return at(k - m, j);
   }
+  // The z of a float in course k, wale j: float_depth from the mid-plane on the face where the
+  // course holds its yarn, the face of the worked stitch before it (the last one to its left
+  // that is not slipped): in front (+z) after a purl, behind (-z) after a knit.
+  double float_z(int k, int j) const {
+    int m = 1;
+    while (at(k, j - m) == 'S' && m < nw) ++m;
+    return at(k, j - m) == 'K' ? -std::abs(p.float_depth) : std::abs(p.float_depth);
+  }
   // Where the yarn of a stitch lies between wales (its sinkers): a knit stitch's behind the legs
   // of the loop it is pulled through, a purl stitch's in front of them, sinker_gap away (0: 2
   // depths); a float's on its face.
   double side(int k, int j) const {
     const char s = at(k, j);
-    if (s == 'S') return p.float_depth;
+    if (s == 'S') return float_z(k, j);
     const double old = below(k, j) == 'K' ? p.depth : -p.depth;
     const double gap = p.sinker_gap > 0 ? p.sinker_gap : 2 * p.depth;
     return s == 'K' ? old - gap : old + gap;
@@ -58,7 +66,7 @@ struct Chart {
     if (s == 'S') {
       // A float: straight across the wale, on its face, in front of (or behind) the slipped
       // loop's legs.
-      zh = zl = p.float_depth;
+      zh = zl = float_z(k, j);
       q[0] = xj + w / (2 * M_PI) * th;
       q[1] = yk - b - p.waist + p.float_lift * 0.5 * (1 + std::cos(th));
     } else {
@@ -67,7 +75,7 @@ struct Chart {
       // stitch that catches it.
       const int m = slipped_above(k, j);
       const double sig = s == 'K' ? 1 : -1, sig_next = at(k + 1 + m, j) == 'K' ? 1 : -1;
-      zl = c * sig;
+      zl = (m > 0 && p.held_depth > 0 ? p.held_depth : c) * sig;
       zh = -(p.head_depth > 0 ? p.head_depth : c) * sig_next;
       const double u = 0.5 * (1 + std::cos(th));
       q[0] = xj + w / (2 * M_PI) * (th + p.bulb * std::sin(2 * th));

@@ -60,8 +60,9 @@ Pattern generate_weave(const WeaveParams& p);
 
 // A weft knit from its stitch chart: courses bottom to top (one yarn each, along +x), one
 // character per wale: 'K' knit, 'P' purl (as seen from +z), 'S' slipped (the yarn floats across
-// the wale at z = float_depth; the loop below is held up to the next course that works the
-// wale). Each loop is generate_stockinette's shape in its wale (w = px / wales) and course
+// the wale float_depth from the mid-plane, on the face the course holds its yarn on: in front
+// (+z) after a purl, behind after a knit; the loop below is held up to the next course that
+// works the wale, its legs at held_depth). Each loop is generate_stockinette's shape in its wale (w = px / wales) and course
 // (h = py / courses): legs at +depth (knit) or -depth (purl), the head at head_depth on the
 // side away from the legs of the stitch that catches it, the sinkers sinker_gap behind (knit) or
 // in front of (purl) the legs of the loop the stitch is pulled through. The rest state is the
@@ -74,9 +75,11 @@ struct KnitParams {
   double loop_height = 0;           // b (m): the loop spans y_k -+ b
   double depth = 0;                 // c (m): the legs at +-c
   double head_depth = 0;            // m: the heads at +-head_depth (0: depth)
+  double held_depth = 0;            // m: the legs of a loop held through slipping courses at
+                                    // +-held_depth (0: depth), in front of the floats across it
   double bulb = 1.0;                // a: how far the head overhangs the legs
   double waist = 0;                 // m, as in StockinetteParams
-  double float_depth = 0;           // m: z of a float (+: the +z face)
+  double float_depth = 0;           // m: a float's distance from the mid-plane (its face: above)
   double float_lift = 0;            // m: a float's rise above the sinkers at mid-wale
   double sinker_gap = 0;            // m: sinkers from the legs they pass (0: 2 depths)
   double edge = 1e-3;               // m: about the edge length of the sampled yarn
@@ -85,8 +88,8 @@ Pattern generate_knit(const KnitParams& p);
 
 // The built-in patterns: "plain" (the tiny 0.1 mm plain weave above, straight yarn at rest) and
 // the paper's patterns generated at the paper's scale (1 mm yarn radius, the periods of the
-// published tiles; the rest state the generated shape): "basket", "satin",
-// "slip_stitch_honeycomb" and "stockinette".
+// published tiles; the rest state the generated shape): "basket", "cartridge_belt_rib" (two
+// courses of the published four), "satin", "slip_stitch_honeycomb" and "stockinette".
 std::vector<std::string> builtin_pattern_names();
 bool is_builtin_pattern(const std::string& name);
 Pattern builtin_pattern(const std::string& name);  // throws std::invalid_argument, naming them

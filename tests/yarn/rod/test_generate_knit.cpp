@@ -78,17 +78,50 @@ TEST(GenerateKnit, KnitLegsInFrontPurlLegsBehindFloatsOnTheirFace) {
     ASSERT_GT(n, 0);
     EXPECT_NEAR(z_mid / n, s == 'K' ? 1.3 : -1.3, 0.2) << s;
   }
-  // A slipped stitch: the course floats across its wale on the face, at float_depth or beyond.
-  const Pattern p = generate_knit(params({"KS", "KK"}));
-  const auto q = yarn_points(p, 0);
-  const double xw = p.px / 4 / p.radius;  // wale 1's centre, radii
-  int n = 0;
-  for (const auto& v : q)
-    if (std::abs(off(v[0], xw, p.px / p.radius)) < 1.0) {
-      EXPECT_GT(v[2], 3.55);
-      ++n;
+  // A slipped stitch: the course floats across its wale float_depth or more from the mid-plane,
+  // on the face it holds its yarn on: in front (+z) in a purl course, behind (-z) in a knit one.
+  for (char s : {'K', 'P'}) {
+    const Pattern p = generate_knit(params({std::string(1, s) + "S", "KK"}));
+    const auto q = yarn_points(p, 0);
+    const double xw = p.px / 4 / p.radius;  // wale 1's centre, radii
+    int n = 0;
+    for (const auto& v : q)
+      if (std::abs(off(v[0], xw, p.px / p.radius)) < 1.0) {
+        EXPECT_GT(s == 'P' ? v[2] : -v[2], 3.55) << s;
+        ++n;
+      }
+    EXPECT_GT(n, 0) << s;
+  }
+}
+
+TEST(GenerateKnit, HeldLoopsLegsAtHeldDepth) {
+  // The cartridge belt rib's chart: course 1's knit loop in wale 1 is held through the next
+  // repeat's course 0 (which slips wale 1): its legs at +held_depth, in front of that course's
+  // float; its loop in wale 0, caught by the next course, has its legs at +depth.
+  KnitParams prm = params({"PSPP", "KKKS"});
+  prm.held_depth = 5.0 * prm.radius;
+  const Pattern p = generate_knit(prm);
+  const auto q = yarn_points(p, 1);
+  const double w = p.px / 4 / p.radius, period = p.px / p.radius;
+  double held = -1e9, worked = -1e9;  // the largest z in wale 1 and in wale 0
+  for (const auto& v : q) {
+    const double from_left = v[0] + period / 2;  // from wale 0's left edge, radii
+    if (std::abs(std::remainder(from_left - 1.5 * w, period)) < 0.3 * w) held = std::max(held, v[2]);
+    if (std::abs(std::remainder(from_left - 0.5 * w, period)) < 0.3 * w) worked = std::max(worked, v[2]);
+  }
+  EXPECT_NEAR(held, 5.0, 0.3);
+  EXPECT_NEAR(worked, 1.3, 0.3);
+  // The floats, at their wale's centre: course 0's (purl) in front, course 1's (knit) behind.
+  const auto z_at = [&](const std::vector<Eigen::Vector3d>& yarn, double x) {
+    double best = 1e9, z = 0;
+    for (const auto& v : yarn) {
+      const double d = std::abs(std::remainder(v[0] + period / 2 - x, period));
+      if (d < best) best = d, z = v[2];
     }
-  EXPECT_GT(n, 0);
+    return z;
+  };
+  EXPECT_NEAR(z_at(yarn_points(p, 0), 1.5 * w), 3.6, 0.1);
+  EXPECT_NEAR(z_at(q, 3.5 * w), -3.6, 0.1);
 }
 
 TEST(GenerateKnit, SlippedCoursesHoldTheLoopBelowUp) {

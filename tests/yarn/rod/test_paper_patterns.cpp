@@ -2,14 +2,16 @@
 // tiles in ../shared/patterns (MIT, Sperl et al.; used here only as references): the period
 // within 2 %, the yarn length (total rest length per tile) within 5 %, the rest energy (Psi0
 // of the relaxed, stress-free tile, docs/rve.md section 6) within 10 %. The generated
-// stockinette is one loop of the published 2 x 2-loop tile and is compared tiled 2 x 2.
+// stockinette is one loop of the published 2 x 2-loop tile: one tile relaxed, its period and
+// yarn length counted 2 x 2.
 // Measured (generated against published): stockinette yarn 101.9 / 105.1 mm, Psi0 0.404 / 0.412;
 // basket 102.5 / 101.2 mm, Psi0 5.96e-5 / 5.78e-5 (both nearly stress free: the contacts just
 // touch); satin 137.9 / 136.8 mm, Psi0 0.01168 / 0.01170 J/m^2 (each yarn flat on its side of
 // the cloth, peaked at its interlacing; with the cosine profile it was 0.033: the yarns pressed
 // at the crossings beside the interlacings); slip stitch honeycomb 175.6 / 178.2 mm, Psi0 0.56 /
-// 0.32 J/m^2: its rest energy does NOT match yet and is held only to a factor 2.2.
-// The knit cartridge_belt_rib has no generator yet.
+// 0.32 J/m^2: its rest energy does NOT match yet and is held only to a factor 2.2; cartridge belt
+// rib (two courses, compared repeated 1 x 2) 347 / 334 mm, Psi0 1.80 / 0.77 J/m^2: its rest
+// energy does NOT match yet either and is held only to a factor 2.6.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -29,17 +31,20 @@ struct Figures {
 
 Figures figures(const Pattern& p) {
   RestOptions o;
-  o.max_seconds = 60;
+  o.max_seconds = 240;  // the published cartridge belt rib takes 15-70 s on a loaded 2-core machine
   const RestTile rt = relax_tile(p, Material{}, o);
   EXPECT_TRUE(rt.report.converged) << p.name;
   return {p.px, p.py, total_rest_length(p), rt.report.last.energy / rt.rve.area()};
 }
 
+// The generated tile repeated tx x ty times is compared; its rest energy per area is that of the
+// one tile relaxed (the repeat's rest, repeat_rest), so one tile is relaxed.
 void compare(const std::string& name, int tx, int ty, double psi0_tolerance = 0.10) {
   YARN_REQUIRE_SHARED_PATTERNS();
-  const Pattern gen = tile(builtin_pattern(name), tx, ty);
   const Pattern ref = read_pyp(yarnhom::yarn::testing::shared_pattern(name));
-  const Figures g = figures(gen), r = figures(ref);
+  Figures g = figures(builtin_pattern(name));
+  const Figures r = figures(ref);
+  g.px *= tx, g.py *= ty, g.length *= tx * ty;
   std::printf("%s: period %.4g x %.4g mm (published %.4g x %.4g), yarn %.4g mm (%.4g), Psi0 %.4g J/m^2 (%.4g)\n",
               name.c_str(), g.px * 1e3, g.py * 1e3, r.px * 1e3, r.py * 1e3, g.length * 1e3, r.length * 1e3, g.psi0,
               r.psi0);
@@ -59,4 +64,10 @@ TEST(PaperPatterns, SatinMatchesThePublishedTile) { compare("satin", 1, 1); }
 // relaxation give, so that a change shows.
 TEST(PaperPatterns, SlipStitchHoneycombMatchesThePublishedTilesPeriodAndYarnLength) {
   compare("slip_stitch_honeycomb", 1, 1, 1.2);
+}
+// The cartridge belt rib's generated tile is two courses of the published four: compared
+// repeated 1 x 2. Its rest energy does not match yet (1.80 against 0.772 J/m^2, generate.cpp
+// says why): held to its measured factor 2.3 with some room, so that a change shows.
+TEST(PaperPatterns, CartridgeBeltRibMatchesThePublishedTilesPeriodAndYarnLength) {
+  compare("cartridge_belt_rib", 1, 2, 1.6);
 }
