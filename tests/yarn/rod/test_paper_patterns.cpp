@@ -8,8 +8,8 @@
 // basket 102.5 / 101.2 mm, Psi0 5.96e-5 / 5.78e-5 (both nearly stress free: the contacts just
 // touch); satin 137.9 / 136.8 mm, Psi0 0.01168 / 0.01170 J/m^2 (each yarn flat on its side of
 // the cloth, peaked at its interlacing; with the cosine profile it was 0.033: the yarns pressed
-// at the crossings beside the interlacings); slip stitch honeycomb 175.6 / 178.2 mm, Psi0 0.56 /
-// 0.32 J/m^2: its rest energy does NOT match yet and is held only to a factor 2.2; cartridge belt
+// at the crossings beside the interlacings); slip stitch honeycomb 184.1 / 178.2 mm, Psi0 0.325 /
+// 0.321 J/m^2 (its earlier shape relaxed 15 % shorter along the wale to 0.56); cartridge belt
 // rib (two courses, compared repeated 1 x 2) 347 / 334 mm, Psi0 1.80 / 0.77 J/m^2: its rest
 // energy does NOT match yet either and is held only to a factor 2.6.
 #include <gtest/gtest.h>
@@ -59,12 +59,7 @@ void compare(const std::string& name, int tx, int ty, double psi0_tolerance = 0.
 TEST(PaperPatterns, StockinetteMatchesThePublishedTile) { compare("stockinette", 2, 2); }
 TEST(PaperPatterns, BasketMatchesThePublishedTile) { compare("basket", 1, 1); }
 TEST(PaperPatterns, SatinMatchesThePublishedTile) { compare("satin", 1, 1); }
-// The honeycomb's rest energy does not match yet (0.56 against 0.32 J/m^2, generate.cpp says
-// why): held to its measured factor 1.7 with room for the 0.56-0.66 that details of the
-// relaxation give, so that a change shows.
-TEST(PaperPatterns, SlipStitchHoneycombMatchesThePublishedTilesPeriodAndYarnLength) {
-  compare("slip_stitch_honeycomb", 1, 1, 1.2);
-}
+TEST(PaperPatterns, SlipStitchHoneycombMatchesThePublishedTile) { compare("slip_stitch_honeycomb", 1, 1); }
 // The cartridge belt rib's generated tile is two courses of the published four: compared
 // repeated 1 x 2. Its rest energy does not match yet (1.80 against 0.772 J/m^2, generate.cpp
 // says why): held to its measured factor 2.3 with some room, so that a change shows.
