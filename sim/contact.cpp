@@ -190,7 +190,25 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
   for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1)) {
     const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
     if (q0 == q1) continue;
-    const numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, 0.1);
+    numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, 0.1);
+    // A moving obstacle never comes closer than dmin + dhat / 10 to the cloth on its own: with
+    // the cloth pinched against something fixed, the bound above would let it close 90 % of the
+    // gap stage after stage, down to rounding (and through). Within that, it may only move
+    // where the pair's distance does not shrink (checked at the fractions a stage may take).
+    bool moving = false;
+    for (int k = 0; k < 4; ++k) moving = moving || (c.slot[k] < 0 && q0.segment<3>(3 * k) != q1.segment<3>(3 * k));
+    if (moving && r.t > 0) {
+      const double floor = c.dmin + 0.1 * P.dhat;
+      if (r.d0 > floor) {
+        r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, 0.1).t);
+      } else {  // (less rounding: a vertex carried along keeps its distance)
+        for (double s : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
+          if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat) {
+            r.t = 0;
+            break;
+          }
+      }
+    }
     if (!(r.t < 1)) continue;
     t = std::min(t, r.t);
     if (!hits) continue;
@@ -213,7 +231,9 @@ double make_move_safe(const Problem& P, const std::vector<int>& free_index, cons
                       Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds) {
   if (!has_contact(P)) return 1.0;
   const Eigen::VectorXd dy = y1 - y0;
-  std::vector<char> state(P.mesh.num_vertices(), 0);  // 1 held at x0, 2 carried by an obstacle
+  // 1 held at x0, 2 carried by an obstacle (since round carried[v]), 3 held for good
+  std::vector<char> state(P.mesh.num_vertices(), 0);
+  std::vector<int> carried(P.mesh.num_vertices(), 0);
   for (int round = 0;; ++round) {
     std::vector<ContactHit> hits;
     const double t = contact_step_bound(P, x0, x1 - x0, y0, dy, &hits);
@@ -221,9 +241,24 @@ double make_move_safe(const Problem& P, const std::vector<int>& free_index, cons
     bool changed = false;
     for (const ContactHit& h : hits) {
       const int v = h.vertex;
-      if (free_index[v] < 0 || state[v] == 2) continue;
-      const V3 to = h.obstacle ? V3(at(x0, v) + h.carry) : at(x0, v);
-      if (h.obstacle) state[v] = 2;
+      if (free_index[v] < 0 || state[v] == 3) continue;
+      if (state[v] == 2) {
+        // Carried in an earlier round and still limiting against an obstacle: carried into
+        // another one (pinched). It stays instead, and holds the carrying obstacle back.
+        if (!h.obstacle || carried[v] == round) continue;
+        state[v] = 3;
+        x1.segment<3>(3 * v) = at(x0, v);
+        changed = true;
+        continue;
+      }
+      // A carry that would take the vertex into a collider is refused: the vertex stays (and
+      // holds the obstacle back) instead of being pushed through the floor.
+      bool refused = false;
+      for (const Collider& c : P.colliders)
+        refused = refused || (h.obstacle && collider_time_of_impact(c, at(x0, v), h.carry) < 1.0);
+      const V3 to = h.obstacle && !refused ? V3(at(x0, v) + h.carry) : at(x0, v);
+      if (refused) state[v] = 3;
+      else if (h.obstacle) state[v] = 2, carried[v] = round;
       else if (state[v] == 1) continue;
       else state[v] = 1;
       if (to != at(x1, v)) {

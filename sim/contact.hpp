@@ -67,7 +67,10 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
                       std::vector<Eigen::Triplet<double>>* triplets = nullptr);
 
 // The largest fraction of the move (x0 -> x0 + t dx, y0 -> y0 + t dy) on which no pair comes closer
-// than d_min + eta (d(0) - d_min) (numerics: contact_ccd); 1 when the whole move is safe.
+// than d_min + eta (d(0) - d_min) (numerics: contact_ccd); 1 when the whole move is safe. A pair
+// whose obstacle points move comes no closer than d_min + dhat / 10 either (from within it,
+// only moves that do not shrink its distance, sampled along the move), so that an obstacle
+// pressing cloth against something fixed stops instead of closing the gap to rounding.
 // hits (optional): the cloth vertices of the pairs that limit it (t < 1), with, for a pair with
 // an obstacle, the mean displacement of its obstacle points over the move.
 struct ContactHit {
@@ -81,7 +84,10 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
 // Makes the move (x0 -> x1, y0 -> y1) safe for contact where it can, by changing x1: a cloth
 // vertex of a limiting pair with an obstacle is carried by the obstacle's displacement (it moves
 // with the obstacle instead of being passed through), one of a limiting self pair stays at x0;
-// prescribed vertices (free_index < 0) keep their move. Repeats while that changes something
+// prescribed vertices (free_index < 0) keep their move. A carry that would cross a collider
+// (P.colliders), or that leaves the vertex limiting against an obstacle in the next round (it
+// was carried into another one: pinched), is undone for good: the vertex stays at x0 and so
+// holds the carrying obstacle back. Repeats while that changes something
 // (at most `rounds` times). Returns the safe fraction of the final move (1: all of it).
 double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
                       Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds = 6);

@@ -1,5 +1,6 @@
 #include "sim/integrators.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -135,8 +136,17 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
         apply_targets(D, target, xn);
         make_move_safe(P, D.free_index, xcur, xn, ycur, y1);
       }
-      const double t = contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur);
-      if (stage > 0 && !(t > 0)) break;  // nothing can move further: the obstacle lags
+      double t = contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur);
+      // ... and by the colliders: a carried vertex must not be moved through a floor.
+      for (const Collider& c : P.colliders)
+        for (int v = 0; v < P.mesh.num_vertices(); ++v) {
+          const Eigen::Vector3d pv = xn.segment<3>(3 * v) - xcur.segment<3>(3 * v);
+          if (pv.squaredNorm() > 0) t = std::min(t, collider_time_of_impact(c, xcur.segment<3>(3 * v), pv));
+        }
+      if (stage > 0 && !(t > 0)) {  // nothing can move further: the obstacle lags
+        xn = xcur;                    // (not the target make_move_safe just changed)
+        break;
+      }
       const bool whole = t >= 1;
       if (!whole) {
         const double f = 0.9 * t;

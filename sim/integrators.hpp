@@ -15,10 +15,12 @@
 // Contact (sim/contact.hpp: self-collision and obstacles), in both: the move from x_n to
 // Newton's start (the prediction, handles and obstacles moved to their targets) is made safe by
 // make_move_safe (vertices that would pass through cloth stay, those an obstacle would pass
-// through are carried along); when that is not enough, the step goes in stages: everything
-// moves by 0.9 of the safe fraction, Newton solves there, and the next stage starts from its
-// solution, at most ObstacleMotion::max_stages times. Every Newton and line-search step is CCD-
-// limited, so the cloth never crosses itself or an obstacle.
+// through are carried along, unless that pinches them against a collider or another obstacle);
+// when that is not enough, the step goes in stages: everything moves by 0.9 of the safe
+// fraction (contact and colliders), Newton solves there, and the next stage starts from its
+// solution, at most ObstacleMotion::max_stages times; a stage that cannot move at all ends the
+// step where the last one did. Every Newton and line-search step is CCD-limited, so the cloth
+// never crosses itself or an obstacle.
 // baraff_witkin_step: ARCSim-HYLC's integrator (Baraff and Witkin 1998), kept for comparison
 //   with it (`--integrator baraff-witkin`): one linear solve, no line search,
 //     (M (1 + h alpha) + h (h + beta) K + h C_air) dv = h (f - alpha M v - (h + beta) K v - C_air v),
