@@ -55,6 +55,9 @@ SparseCholesky::SparseCholesky(SolverKind kind) : impl_(std::make_unique<Impl>()
   impl_->use_cholmod = kind == SolverKind::Cholmod || (kind == SolverKind::Auto && cholmod_available());
 #ifdef YARNHOM_HAVE_CHOLMOD
   impl_->cholmod.cholmod().print = 0;  // a failed factorization is expected, not news
+  // and ends at the first supernode that is not positive definite: nothing of a failed factor
+  // is used, and a Newton solver's shift loop fails often.
+  impl_->cholmod.cholmod().quick_return_if_not_posdef = 1;
 #endif
 }
 

@@ -34,7 +34,7 @@ void add_rve_options(CLI::App* cmd, yarn::ProduceRunOptions& o) {
                   "NX,NY: the RVE is the pattern's relaxed tile repeated NX x NY times (default 1,1). Psi is per "
                   "area, so a patch samples the same material, but lets neighbouring tiles buckle and slide "
                   "differently, which one tile cannot (docs/produce.md, \"One tile can be too small an RVE\": the "
-                  "cartridge belt rib's course; the shear couplings' data). Costs 13-27x the solve time at 2,2");
+                  "cartridge belt rib's course; the shear couplings' data). Costs 5-7x the solves' CPU time of 1,1 at 2,2 (docs/benchmarks.md, \"Patch RVEs\")");
   add_yarn_material_option(cmd, o.material);
   cmd->add_option("--ranges", o.ranges, "Sampling boxes: 'index lower upper' lines")->check(existing_regular_file());
 }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -24,7 +25,38 @@ double relative_residual(const RveProblem& rve, const Eigen::VectorXd& grad) {
   return numerics::relative_residual(grad, rve.force_scale(), rve.stretch_stiffness());
 }
 
+int rve_dense_limit() {
+  static const int limit = [] {
+    const char* env = std::getenv("YARNHOM_RVE_DENSE_LIMIT");
+    if (!env || !*env) return kRveDenseLimit;
+    char* end = nullptr;
+    const long v = std::strtol(env, &end, 10);
+    if (*end != 0 || v < 0 || v > 1000000)
+      throw std::invalid_argument(std::string("YARNHOM_RVE_DENSE_LIMIT='") + env + "': expected an integer 0..1000000");
+    return static_cast<int>(v);
+  }();
+  return limit;
+}
+
 namespace {
+
+// The energy, gradient and Hessian at (s, st) for H: the triplets as they are for a dense
+// factorization (the height term a dense block among them: the assembly of earlier releases,
+// bit for bit), the height term apart for a sparse one (`height`).
+double evaluate_hessian(const RveProblem& rve, const Strain& s, const RveState& st, Eigen::VectorXd* g,
+                        std::vector<Eigen::Triplet<double>>& trip, RveProblem::HeightTerm& height,
+                        const HessianFactor& H) {
+  trip.clear();
+  if (H.dense()) return rve.evaluate(s, st, g, &trip);
+  return rve.evaluate_hessian(s, st, g, &trip, &height);
+}
+
+void assemble(HessianFactor& H, const std::vector<Eigen::Triplet<double>>& trip, const RveProblem::HeightTerm& height) {
+  if (H.dense())
+    H.assemble(trip);
+  else
+    H.assemble(trip, height.U, height.C);
+}
 
 // SolveReport::sensitivity: H du/dt = -(dg/ds) D for every direction D, with a factorization
 // of the Hessian at (or, from the last Newton iteration, next to) the solution; g the
@@ -47,7 +79,8 @@ void sensitivities(const RveProblem& rve, const Strain& s, const RveState& st, c
 class RveNewton {
  public:
   RveNewton(const RveProblem& rve, const Strain& s, RveState& st, const SolveOptions& opt)
-      : rve_(rve), s_(s), st_(st), opt_(opt), g_(rve.num_dofs()), d_(rve.num_dofs()), H_(rve.num_dofs()),
+      : rve_(rve), s_(s), st_(st), opt_(opt), g_(rve.num_dofs()), d_(rve.num_dofs()),
+        H_(rve.num_dofs(), opt.dense_limit >= 0 ? opt.dense_limit : rve_dense_limit(), true),
         dmin_(rve.min_separation()), reach_(2.0 * rve.radius()) {
     // The recorded path is moved out while solving, so that the line search's copies of the
     // state stay cheap.
@@ -59,8 +92,7 @@ class RveNewton {
   SolveReport run() {
     if (!start()) return finish(SolveStatus::kInfeasibleStart);
     for (int it = 0;; ++it) {
-      trip_.clear();
-      const double E = rve_.evaluate(s_, st_, &g_, &trip_);
+      const double E = evaluate_hessian(rve_, s_, st_, &g_, trip_, height_, H_);
       rep_.energy = E;
       rep_.residual = relative_residual(rve_, g_);
       rep_.iterations = it;
@@ -69,7 +101,7 @@ class RveNewton {
       if (rep_.residual <= opt_.tolerance) return converged();
       if (it >= opt_.max_iterations) return finish(SolveStatus::kMaxIterations);
       if (opt_.max_seconds > 0 && numerics::seconds_since(t0_) > opt_.max_seconds) return finish(SolveStatus::kTimeLimit);
-      H_.assemble(trip_);
+      assemble(H_, trip_, height_);
       if (!direction()) return finish(SolveStatus::kNonFinite);
       if (!step(E)) {
         // The quadratic model was bad far from the minimum: shift harder (shorter, more
@@ -130,7 +162,7 @@ class RveNewton {
       // Converged before any factorization (a start at the solution): factor here, from the
       // Hessian this iteration's evaluation already assembled.
       if (!factored_) {
-        H_.assemble(trip_);
+        assemble(H_, trip_, height_);
         factored_ = H_.factor(0.0);
       }
       if (factored_) sensitivities(rve_, s_, st_, g_, opt_.sensitivity_directions, H_, rep_);
@@ -233,6 +265,7 @@ class RveNewton {
   SolveReport rep_;
   Eigen::VectorXd g_, d_;
   std::vector<Eigen::Triplet<double>> trip_;
+  RveProblem::HeightTerm height_;
   HessianFactor H_;
   double mu_ = 0.0;
   bool factored_ = false, full_step_ = false;
@@ -248,9 +281,10 @@ std::vector<Eigen::VectorXd> equilibrium_sensitivity(const RveProblem& rve, cons
                                                      const std::vector<Strain>& directions) {
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::VectorXd g;
-  rve.evaluate(s, st, &g, &trip);
-  HessianFactor H(rve.num_dofs());
-  H.assemble(trip);
+  HessianFactor H(rve.num_dofs(), rve_dense_limit());
+  RveProblem::HeightTerm height;
+  evaluate_hessian(rve, s, st, &g, trip, height, H);
+  assemble(H, trip, height);
   SolveReport rep;
   if (H.factor(0.0)) sensitivities(rve, s, st, g, directions, H, rep);
   return rep.sensitivity;

@@ -2,8 +2,9 @@
 // Newton's method with a backtracking line search for the RVE equilibrium at a strain s.
 //
 // Each iteration assembles the exact Hessian in the reduced unknowns and factors it by
-// Cholesky (numerics/hessian_factor.hpp: dense up to 3000 unknowns, sparse beyond; the shift,
-// line search and step extension are numerics/newton.hpp's). Definiteness fix: when the factorization fails or has a non-positive pivot (the
+// Cholesky (numerics/hessian_factor.hpp: dense up to rve_dense_limit() unknowns, sparse beyond,
+// with the height term apart and a pattern that only grows within a solve; the shift, line
+// search and step extension are numerics/newton.hpp's). Definiteness fix: when the factorization fails or has a non-positive pivot (the
 // Hessian is indefinite away from a minimum), the diagonal is raised to H + mu diag(|H_ii|)
 // with mu growing tenfold until the factorization is positive definite (a Levenberg-style
 // shift, scale-free because it is relative to each dof's own stiffness). After a full step
@@ -40,7 +41,20 @@ struct SolveOptions {
   // tests only; moves are still checked and a state that passed within d_min is marked in
   // its certificate.
   bool ccd = true;
+  // The largest number of unknowns factored densely; -1: rve_dense_limit() (below). Both paths
+  // give the same steps to round-off (tests compare them).
+  int dense_limit = -1;
 };
+
+// The largest RVE factored densely (Eigen's LLT); beyond it CHOLMOD with the height term by
+// Woodbury (numerics/hessian_factor.hpp). Both give the same Newton steps to round-off; the
+// sparse one wins from about this size on (docs/benchmarks.md, "Patch RVEs": even at 310 and
+// 396 unknowns the two are within 10 %, at 722 the sparse one is 1.3x faster, at 1418 2.4x).
+// The paper's stockinette and basket tiles stay dense, the honeycomb and cartridge belt rib
+// tiles and every 2 x 2 patch are sparse. The environment variable YARNHOM_RVE_DENSE_LIMIT
+// overrides it (for comparisons; read once per process).
+constexpr int kRveDenseLimit = 500;
+int rve_dense_limit();
 
 // The status (numerics/newton.hpp). kInfeasibleStart: the straight move from the state's last
 // checked configuration to the start at the new strain would bring yarn segments within d_min

@@ -410,7 +410,10 @@ void RveProblem::contact_sums(const Assembly& A, Sums& L, int chunk, int chunks)
       if (A.derivs) g += gb;
       if (A.hessian) H += Hb;
     }
-    if (A.derivs) {
+    // A pair out of reach (a candidate of the broad phase only) adds exact zeros: skipped, so
+    // that it costs no assembly and puts no entry in a sparse Hessian's pattern (sums without
+    // its zeros are the same numbers).
+    if (A.derivs && !(g.isZero(0.0) && (!A.hessian || H.isZero(0.0)))) {
       const Node* nodes[4] = {&A.base[pr.a], &na1, &nb0, &nb1};
       const int verts[4] = {pr.a, a1, pr.b, b1};
       scatter<12>(4, nodes, verts, 0, nullptr, g, A.hessian ? &H : nullptr, L.G, L.T, L.D);
@@ -421,6 +424,18 @@ void RveProblem::contact_sums(const Assembly& A, Sums& L, int chunk, int chunks)
 double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
                             std::vector<Eigen::Triplet<double>>* hess, EnergyParts* parts,
                             Strain* dEds) const {
+  return evaluate_all(s, st, grad, hess, parts, dEds, nullptr);
+}
+
+double RveProblem::evaluate_hessian(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
+                                    std::vector<Eigen::Triplet<double>>* hess, HeightTerm* height) const {
+  if (!hess || !height) throw std::invalid_argument("evaluate_hessian: needs the triplets and the height term");
+  return evaluate_all(s, st, grad, hess, nullptr, nullptr, height);
+}
+
+double RveProblem::evaluate_all(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
+                                std::vector<Eigen::Triplet<double>>* hess, EnergyParts* parts, Strain* dEds,
+                                HeightTerm* height) const {
   const int n = p_.size();
   if (grad) grad->setZero(ndof_ + 1);  // + the dependent height slot (constructor)
   if (dEds) dEds->setZero();
@@ -460,16 +475,17 @@ double RveProblem::evaluate(const Strain& s, const RveState& st, Eigen::VectorXd
     if (dEds) *dEds += L.d;
   }
   if (parts) *parts = e;
-  eliminate_height(grad, hess, hess_start);
+  eliminate_height(grad, hess, hess_start, height);
   return e.total();
 }
 
 // The dependent slot d (the pinned vertex's height) is u_d = a . y with a = height_coef_, so by
 // the chain rule g_y += g_d a and H_yy += a h^T + h a^T + H_dd a a^T with h = H_yd: a dense
 // rank-2 term over the height unknowns (one per vertex; the RVE's Hessian is factored densely
-// at the paper's sizes, numerics/hessian_factor.hpp). It keeps a projected Hessian PSD.
+// up to the paper's tile sizes, numerics/hessian_factor.hpp). It keeps a projected Hessian PSD.
+// With `height` the term is returned there as U C U^T (HeightTerm in rve.hpp) instead.
 void RveProblem::eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess,
-                                  size_t hess_start) const {
+                                  size_t hess_start, HeightTerm* height) const {
   const int d = ndof_;
   const Eigen::VectorXd& a = height_coef_;
   if (grad) {
@@ -487,6 +503,13 @@ void RveProblem::eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Trip
     else (*hess)[keep++] = t;
   }
   hess->resize(keep);
+  if (height) {
+    height->U.resize(d, 2);
+    height->U.col(0) = a;
+    height->U.col(1) = h;
+    height->C << Hdd, 1, 1, 0;
+    return;
+  }
   std::vector<int> idx;
   for (int i = 0; i < d; ++i)
     if (a[i] != 0 || h[i] != 0) idx.push_back(i);

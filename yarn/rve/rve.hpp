@@ -129,6 +129,18 @@ class RveProblem {
                   std::vector<Eigen::Triplet<double>>* hess = nullptr, EnergyParts* parts = nullptr,
                   Strain* dEds = nullptr) const;
 
+  // The Hessian's rank-2 term from the eliminated height unknown (see eliminate_height in
+  // rve.cpp), kept apart: H = (the triplets) + U C U^T with U = [a h] (n x 2), C = [[H_dd, 1],
+  // [1, 0]]. evaluate() appends it to the triplets, a dense block over every height unknown;
+  // a sparse factorization keeps it out of the factor (numerics/hessian_factor.hpp).
+  struct HeightTerm {
+    Eigen::MatrixXd U;
+    Eigen::Matrix2d C;
+  };
+  // evaluate() with the Hessian (hess required) in those two parts.
+  double evaluate_hessian(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
+                          std::vector<Eigen::Triplet<double>>* hess, HeightTerm* height) const;
+
   // st += alpha * dy in the reduced unknowns.
   void apply_step(const Eigen::VectorXd& dy, double alpha, RveState& st) const;
   // Per reduced dof: 1 for positions, 1/r for twist angles (moments -> forces), for residuals.
@@ -173,7 +185,11 @@ class RveProblem {
                const Eigen::Matrix<double, M, 1>& gl, const Eigen::Matrix<double, M, M>* Hl,
                Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, Strain* dEds) const;
   static uint64_t pair_key(int a, int b, Eigen::Vector2i o);
-  void eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, size_t hess_start) const;
+  void eliminate_height(Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* hess, size_t hess_start,
+                        HeightTerm* height) const;
+  double evaluate_all(const Strain& s, const RveState& st, Eigen::VectorXd* grad,
+                      std::vector<Eigen::Triplet<double>>* hess, EnergyParts* parts, Strain* dEds,
+                      HeightTerm* height) const;
   // evaluate()'s steps (rve.cpp): the points and contact pairs of one evaluation, then each
   // thread's sums over stretch, joint and contact elements.
   struct Assembly;
