@@ -17,6 +17,7 @@
 
 #include "core/dataset.hpp"
 #include "tests/common/dataset_compare.hpp"
+#include "tests/common/mpi_run.hpp"
 #include "tests/common/process_tree.hpp"
 #include "tests/common/run_cli.hpp"
 
@@ -25,32 +26,15 @@ using yarnhom::test::run_shell;
 
 namespace {
 
-std::string stocktiny() { return std::string(YARNHOM_SOURCE_DIR) + "/../shared/patterns/stocktiny.pyp"; }
+using yarnhom::test::mpirun;
+using yarnhom::test::slurp;
 
-std::string tmpdir(const char* name) {
-  fs::path d = fs::temp_directory_path() / ("yarnhom_mpi_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
-
-// mpirun as any user (CI runs as root), without the single-copy mechanism that containers'
-// ptrace rules forbid, and with more ranks than cores.
-std::string mpirun(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
-         "mpirun --oversubscribe -np " + std::to_string(ranks) + " " + YARNHOM_BINARY;
-}
+std::string stocktiny() { return yarnhom::test::mpi_stocktiny(); }
+std::string tmpdir(const char* name) { return yarnhom::test::mpi_tmpdir("yarnhom_mpi", name); }
 
 // A term of each kind, quick preset: 21 + 81 nodes, both passes.
 std::string produce_args(const std::string& out) {
   return " produce " + stocktiny() + " --preset quick --terms 3,01 -o " + out;
-}
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 size_t records_in(const std::string& checkpoint) {
@@ -95,15 +79,7 @@ std::pair<int, int> ahead(const std::string& out) {
 }  // namespace
 
 TEST(ProduceMpi, RanksWriteTheOneProcessDatasetAndARunWhoseRankDiedResumesWithOtherRanks) {
-#if !YARNHOM_MPI_BUILD
-  GTEST_SKIP() << "this yarnhom was built without MPI (libopenmpi-dev absent at configure time): the MPI tests skip";
-#endif
-  if (run_shell("command -v mpirun").status != 0) GTEST_SKIP() << "mpirun not found: the MPI tests skip";
-  // A machine where mpirun cannot start processes at all (a sandbox without shared memory or
-  // process tracing) is not a fault of produce: said, and skipped.
-  const auto probe = run_shell("timeout 60 env " + mpirun(2).substr(0, mpirun(2).rfind(' ')) + " true");
-  if (probe.status != 0) GTEST_SKIP() << "mpirun cannot start 2 processes here, the MPI tests skip: " << probe.out;
-  if (!fs::exists(stocktiny())) GTEST_SKIP() << "shared pattern not found: " << stocktiny();
+  if (const std::string why = yarnhom::test::mpi_skip_reason(2); !why.empty()) GTEST_SKIP() << why;
   const std::string d = tmpdir("ranks");
 
   auto one = yarnhom::test::run_cli(produce_args(d + "/one.h5") + " --threads 2");

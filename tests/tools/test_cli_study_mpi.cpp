@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/mpi_run.hpp"
 #include "tests/common/run_cli.hpp"
 
 namespace fs = std::filesystem;
@@ -21,40 +22,12 @@ using yarnhom::test::run_shell;
 
 namespace {
 
-std::string stocktiny() { return std::string(YARNHOM_SOURCE_DIR) + "/../shared/patterns/stocktiny.pyp"; }
+using yarnhom::test::mpirun;
+using yarnhom::test::slurp;
 
-std::string tmpdir(const char* name) {
-  fs::path d = fs::temp_directory_path() / ("yarnhom_study_mpi_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
-
-// mpirun as any user (CI runs as root), without the single-copy mechanism that containers'
-// ptrace rules forbid, and with more ranks than cores.
-std::string mpirun(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
-         "mpirun --oversubscribe -np " + std::to_string(ranks) + " " + YARNHOM_BINARY;
-}
-
-// Why the MPI tests cannot run here, "" when they can.
-std::string skip_reason() {
-#if !YARNHOM_MPI_BUILD
-  return "this yarnhom was built without MPI (libopenmpi-dev absent at configure time): the MPI tests skip";
-#endif
-  if (run_shell("command -v mpirun").status != 0) return "mpirun not found: the MPI tests skip";
-  const auto probe = run_shell("timeout 60 env " + mpirun(3).substr(0, mpirun(3).rfind(' ')) + " true");
-  if (probe.status != 0) return "mpirun cannot start 3 processes here, the MPI tests skip: " + probe.out;
-  if (!fs::exists(stocktiny())) return "shared pattern not found: " + stocktiny();
-  return "";
-}
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string stocktiny() { return yarnhom::test::mpi_stocktiny(); }
+std::string tmpdir(const char* name) { return yarnhom::test::mpi_tmpdir("yarnhom_study_mpi", name); }
+std::string skip_reason() { return yarnhom::test::mpi_skip_reason(3); }
 
 // The stages a run's output says ran: "NAME (why)" per "  NAME running (why) ..." line, the
 // run's folder in the reason replaced by DIR, sorted.
