@@ -12,27 +12,12 @@
 #include "sim/rectangle.hpp"
 #include "sim/simulation.hpp"
 #include "tests/common/poly_material.hpp"
+#include "tests/common/sim_contact_checks.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;
 
 namespace {
-
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
-
-// The scene's contact problem (for the checks), as run_simulation builds it.
-Problem contact_problem(const Scene& s) {
-  Problem P = make_problem(s.mesh, material(), 0.2);
-  P.obstacles = s.obstacles;
-  finish_obstacles(P.obstacles);
-  P.self_collision = true;
-  P.dhat = s.dhat;
-  P.edges = cloth_edges(P.mesh);
-  return P;
-}
 
 // Smallest distance between cloth primitives sharing no vertex.
 double closest_self_distance(const Problem& P, const Eigen::VectorXd& x) {
@@ -50,10 +35,10 @@ double closest_self_distance(const Problem& P, const Eigen::VectorXd& x) {
 TEST(Contact, FoldNeverIntersectsAndItsLayersTouch) {
   Scene s = builtin_scene("fold", 8);
   s.frames = 36;
-  const Problem P = contact_problem(s);
+  const Problem P = test::contact_check_problem(s);
   double closest = INFINITY;
   int checked = 0;
-  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  const SimResult r = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     std::string what;
     EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
     if (frame > 25) closest = std::min(closest, closest_self_distance(P, R.x));
@@ -71,9 +56,9 @@ TEST(Contact, FoldWithoutSelfCollisionIntersects) {
   Scene s = builtin_scene("fold", 8);
   s.frames = 36;
   s.self_collision = false;
-  const Problem P = contact_problem(s);
+  const Problem P = test::contact_check_problem(s);
   bool crossed = false;
-  run_simulation(s, material(), 0.2, SimSettings{}, [&](int, const SimResult& R) {
+  run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int, const SimResult& R) {
     crossed = crossed || contact_intersections(P, R.x, R.obstacles);
   });
   EXPECT_TRUE(crossed);
@@ -105,10 +90,10 @@ TEST(Contact, CapsuleSweepingThroughAHangingSheetPushesItWithoutCrossing) {
     finish_obstacles(o);
     yprev = obstacle_positions(o, 0.0);
   }
-  const Problem P = contact_problem(s);
+  const Problem P = test::contact_check_problem(s);
   int steps = 0;
   double pushed = 0;
-  const SimResult res = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  const SimResult res = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     // In the capsule's frame (it translates), each vertex moves from p0 to p1: that path must
     // stay outside the radius around the axis.
     const Eigen::Vector3d a = R.obstacles.segment<3>(0), b = R.obstacles.segment<3>(3);
@@ -154,8 +139,8 @@ TEST(Contact, ACapsulePinchingASheetOnARodLagsBehindItsPathAndSaysHowFar) {
   s.obstacles.capsules = {rod, cap};
   s.integrator = Integrator::Linearized;
   s.frames = 24;
-  const Problem P = contact_problem(s);
-  const SimResult res = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  const Problem P = test::contact_check_problem(s);
+  const SimResult res = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     std::string what;
     EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
     // The lag recorded is the moving capsule's distance from its path's place at the step's end.
@@ -184,7 +169,7 @@ TEST(Contact, EnergyGradientAndHessianMatchFiniteDifferences) {
   }
   two.tris << m.tris, (m.tris.array() + n).matrix();
   finish_mesh(two);
-  Problem P = make_problem(two, material(), 0.2);
+  Problem P = make_problem(two, test::contact_test_material(), 0.2);
   P.self_collision = true;
   P.self_friction = 0;
   P.dhat = 1e-3;
@@ -227,10 +212,10 @@ TEST(Contact, TshirtIsSewnOnTheMannequinWithoutIntersections) {
   Scene s = builtin_scene("tshirt", 1);
   s.sew_time = s.gravity_delay = 0.2;
   s.frames = 10;
-  Problem P = contact_problem(s);
+  Problem P = test::contact_check_problem(s);
   P.vertex_rep = stitch_representatives(P.mesh.num_vertices(), s.stitches);
   ASSERT_GT(s.stitches.size(), 20u);
-  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  const SimResult r = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     std::string what;
     EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
   });

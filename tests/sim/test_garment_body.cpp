@@ -18,17 +18,13 @@
 #include "sim/scene_json.hpp"
 #include "sim/simulation.hpp"
 #include "tests/common/poly_material.hpp"
+#include "tests/common/sim_contact_checks.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;
 namespace fs = std::filesystem;
 
 namespace {
-
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
 
 fs::path scratch(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("yarnhom_garment_" + std::to_string(::getpid()) + "_" + name);
@@ -101,15 +97,10 @@ TEST(GarmentBody, TshirtWornByABodyObjNeverIntersectsAndRestsOnTheShoulders) {
   ASSERT_EQ(s.obstacles.meshes.size(), 1u);
   ASSERT_GT(s.stitches.size(), 20u);
   EXPECT_EQ(s.stitches.size(), tshirt_scene(1).stitches.size());
-  Problem P = make_problem(s.mesh, material(), 0.2);
-  P.obstacles = s.obstacles;
-  finish_obstacles(P.obstacles);
-  P.self_collision = true;
-  P.dhat = s.dhat;
-  P.edges = cloth_edges(P.mesh);
+  Problem P = test::contact_check_problem(s);
   P.vertex_rep = stitch_representatives(P.mesh.num_vertices(), s.stitches);
   int checked = 0;
-  const SimResult r = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  const SimResult r = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     std::string what;
     EXPECT_FALSE(contact_intersections(P, R.x, R.obstacles, &what)) << "frame " << frame << ": " << what;
     ++checked;

@@ -11,17 +11,12 @@
 #include "sim/contact.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/simulation.hpp"
-#include "tests/common/poly_material.hpp"
+#include "tests/common/sim_contact_checks.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::sim;
 
 namespace {
-
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
 
 // A weightless n x n sheet of side L in the plane z = z0, centred on the origin.
 Scene flat_sheet(int n, double L, double z0) {
@@ -43,15 +38,6 @@ CapsuleObstacle pressing_capsule(double z, double drop, double r = 0.015) {
   return cap;
 }
 
-Problem checks_problem(const Scene& s) {
-  Problem P = make_problem(s.mesh, material(), 0.2);
-  P.obstacles = s.obstacles;
-  finish_obstacles(P.obstacles);
-  P.self_collision = true;
-  P.dhat = s.dhat;
-  P.edges = cloth_edges(P.mesh);
-  return P;
-}
 
 struct PinchRun {
   SimResult result;
@@ -63,9 +49,9 @@ struct PinchRun {
 // and dropping `drop` in 0.6 s), checking every step: finite, no intersection, every vertex above
 // each plane collider, and the recorded lag = the capsule's distance from its path.
 PinchRun run_checked(const Scene& s, int moving, double z0, double drop) {
-  const Problem P = checks_problem(s);
+  const Problem P = test::contact_check_problem(s);
   PinchRun out;
-  out.result = run_simulation(s, material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
+  out.result = run_simulation(s, test::contact_test_material(), 0.2, SimSettings{}, [&](int frame, const SimResult& R) {
     ++out.steps;
     ASSERT_TRUE(R.x.allFinite()) << "frame " << frame;
     ASSERT_TRUE(R.obstacles.allFinite()) << "frame " << frame;
