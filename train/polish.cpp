@@ -10,6 +10,7 @@
 #include "cpu/flush_denormals.hpp"
 #include "cpu/loss_step.hpp"
 #include "cpu/mlp_jet.hpp"
+#include "cpu/polish_kernel.hpp"
 #include "train/lbfgs.hpp"
 
 namespace yarnhom {
@@ -169,13 +170,22 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   // Which iterate to keep is judged by the data terms on the validation points: the fit
   // the model is for. (The validation L_S, at other off-domain points than the polish's,
   // would reward iterates that fit worse; see off_domain_layers.)
+  // The default recipe's polish (data losses only, order-1 jets, Net-2 or Net-3) runs on the
+  // fused kernel (cpu/polish_kernel.hpp); anything else on the epochs' mlp_loss_grad.
+  const bool fused = loss.w.c == 0 && loss.w.x == 0 && (K == 0 || loss.w.s == 0) &&
+                     cpu::fused_order1_supported(job.desc);
+  cpu::FusedWorkspace<T> fws;
+  auto data_loss = [&](const T* p, const cpu::LossBatch<T>& b, T* grad) {
+    return fused ? cpu::fused_data_loss_grad<T>(job.desc, p, b, loss.w, grad, fws)
+                 : cpu::mlp_loss_grad<T>(job.desc, p, b, loss, grad, ws, 1);
+  };
   auto val_loss = [&](const std::vector<T>& p) {
-    const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, p.data(), val, loss, nullptr, ws, 1);
+    const cpu::LossValues v = data_loss(p.data(), val, nullptr);
     return loss.w.z * v.z + loss.w.f * v.f + rest_penalty(p, nullptr);
   };
   const LbfgsObjective fg = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
     to_float(x);
-    const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, pf.data(), train, loss, gf.data(), ws, 1);
+    const cpu::LossValues v = data_loss(pf.data(), train, gf.data());
     const double pen = rest_penalty(pf, gf.data());
     for (int i = 0; i < P; ++i) g[i] = gf[i];
     return v.total + pen;

@@ -19,6 +19,7 @@
 
 #include "cpu/loss_step.hpp"
 #include "cpu/mlp_jet.hpp"
+#include "cpu/polish_kernel.hpp"
 #include "train/lbfgs.hpp"
 #include "train/polish.hpp"
 #ifdef YARNHOM_HAVE_CUDA
@@ -106,6 +107,31 @@ void BM_PolishLoss(benchmark::State& st) {
   else loss_eval<float>(st, 2);
 }
 BENCHMARK(BM_PolishLoss)->Arg(1)->Arg(2);
+
+// The same evaluation on the polish's fused kernel (cpu::fused_data_loss_grad), which the
+// default recipe's polish runs.
+template <class T>
+void fused_eval(benchmark::State& st, int d) {
+  const NetworkJob job = make_problem(d);
+  const std::vector<T> x = as<T>(job.x_train), y = as<T>(job.y_train), g = as<T>(job.g_train),
+                       p = as<T>(job.init_params);
+  std::vector<T> wt(job.n_train, T(1)), grad(p.size());
+  const cpu::LossBatch<T> b{job.n_train, x.data(), y.data(), g.data(), 0, nullptr, nullptr, wt.data()};
+  const cpu::LossOptions o = polish_loss();
+  cpu::FusedWorkspace<T> ws;
+  for (auto _ : st) {
+    const cpu::LossValues v = cpu::fused_data_loss_grad<T>(job.desc, p.data(), b, o.w, grad.data(), ws);
+    benchmark::DoNotOptimize(v.total);
+    benchmark::DoNotOptimize(grad.data());
+  }
+  st.counters["points/s"] = benchmark::Counter(double(job.n_train) * st.iterations(), benchmark::Counter::kIsRate);
+  st.SetLabel(d == 1 ? "1D Net-3 double, 91 points" : "2D Net-2 float, 865 points");
+}
+void BM_PolishLossFused(benchmark::State& st) {
+  if (st.range(0) == 1) fused_eval<double>(st, 1);
+  else fused_eval<float>(st, 2);
+}
+BENCHMARK(BM_PolishLossFused)->Arg(1)->Arg(2);
 
 // The 1D rest penalty with its gradient: the jet of one point at order 2, forward and reverse.
 void BM_PolishRest(benchmark::State& st) {

@@ -1,0 +1,385 @@
+#include "cpu/polish_kernel.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cstdint>
+#include <initializer_list>
+#include <stdexcept>
+#include <utility>
+
+namespace yarnhom::cpu {
+namespace {
+
+// f(integral_constant<I>) for I = 0..N-1: loops unrolled by the language, so the accumulator
+// arrays below have constant indices and live in registers.
+template <int N, class F>
+inline void unroll(F&& f) {
+  [&]<int... I>(std::integer_sequence<int, I...>) { (f(std::integral_constant<int, I>{}), ...); }(
+      std::make_integer_sequence<int, N>{});
+}
+
+template <class T>
+struct Simd {
+  typedef T V __attribute__((vector_size(64)));  // 16 floats or 8 doubles
+  static constexpr int L = 64 / int(sizeof(T));
+};
+
+constexpr int max_of(std::initializer_list<int> l) {
+  int m = 0;
+  for (int v : l) m = v > m ? v : m;
+  return m;
+}
+
+// One network shape: input dimension D, hidden widths H..., a linear output; jets of order 1
+// (C = 1 + D channels: the value and the D input derivatives).
+template <class T, int D, int... H>
+struct Fused {
+  using V = typename Simd<T>::V;
+  static constexpr int L = Simd<T>::L;  // points per vector
+  static constexpr int G = 2;           // vectors of points per group
+  static constexpr int C = 1 + D;
+  static constexpr int NL = int(sizeof...(H)) + 1;  // layers
+  static constexpr int NH = NL - 1;                 // hidden layers
+  static constexpr int kWidth[NL + 1] = {D, H..., 1};
+  static constexpr int HMAX = max_of({H...});
+  static constexpr int OB = 4;  // outputs per register block (C x G x OB accumulators)
+  static constexpr int woff(int k) {
+    int o = 0;
+    for (int j = 0; j < k; ++j) o += kWidth[j + 1] * (kWidth[j] + 1);
+    return o;
+  }
+  static constexpr int boff(int k) { return woff(k) + kWidth[k + 1] * kWidth[k]; }
+  static constexpr int P = woff(NL);
+  // One group's storage, in vectors: per hidden layer k its activation jets A_k [n][C][G] and
+  // its pre-activations' input derivatives Zi_k [n][D][G] (kept for the reverse pass).
+  static constexpr int aoff(int k) {
+    int o = 0;
+    for (int j = 0; j < k; ++j) o += kWidth[j + 1] * C * G;
+    return o;
+  }
+  static constexpr int zoff(int k) {
+    int o = 0;
+    for (int j = 0; j < k; ++j) o += kWidth[j + 1] * D * G;
+    return o;
+  }
+  static constexpr int kA = aoff(NH), kZi = zoff(NH);
+  // Vectors of the workspace: lane accumulators of every weight, A, Zi, the value block of one
+  // layer [HMAX][G], the adjoints Ab and Zb [HMAX][C][G], the group's inputs and outputs.
+  static constexpr int kVectors = P + kA + kZi + HMAX * G + 2 * HMAX * C * G + 4 * C * G + 2;
+  static constexpr size_t kScalars = size_t(kVectors) * L + P + 64 / sizeof(T);
+
+  static_assert(HMAX % OB == 0);
+  static_assert(((H % OB == 0) && ...), "hidden widths must be multiples of the register block");
+
+  struct Buffers {
+    V *dw, *A, *Zi, *Zv, *Ab, *Zb, *X, *Y, *Gd, *K;
+    T* Wt;  // the hidden layers' weights transposed, [in][out] per layer
+  };
+
+  static Buffers buffers(FusedWorkspace<T>& ws) {
+    if (ws.buf.size() < kScalars) ws.buf.assign(kScalars, T(0));
+    const uintptr_t raw = reinterpret_cast<uintptr_t>(ws.buf.data());
+    V* v = reinterpret_cast<V*>((raw + 63) & ~uintptr_t(63));
+    Buffers b;
+    b.dw = v, v += P;
+    b.A = v, v += kA;
+    b.Zi = v, v += kZi;
+    b.Zv = v, v += HMAX * G;
+    b.Ab = v, v += HMAX * C * G;
+    b.Zb = v, v += HMAX * C * G;
+    b.X = v, v += C * G;  // D x G used
+    b.Y = v, v += C * G;  // G used
+    b.Gd = v, v += C * G;
+    b.K = v, v += C * G;
+    v += 2;
+    b.Wt = reinterpret_cast<T*>(v);
+    return b;
+  }
+
+  // Z = W A + b of hidden layer k >= 1 from the previous layer's jets: the values into Zv
+  // [NO][G], the input derivatives into Zi [NO][D][G]. Wt: [NI][NO].
+  template <int NI, int NO>
+  static void forward_dense(const T* Wt, const T* bias, const V* Ain, V* Zv, V* Zi) {
+    for (int o0 = 0; o0 < NO; o0 += OB) {
+      V acc[OB][C][G];
+      unroll<OB>([&](auto ob) {
+        unroll<C>([&](auto c) {
+          unroll<G>([&](auto g) { acc[ob][c][g] = V{} + (c == 0 ? bias[o0 + ob] : T(0)); });
+        });
+      });
+      for (int i = 0; i < NI; ++i) {
+        V a[C][G];
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { a[c][g] = Ain[(i * C + c) * G + g]; }); });
+        const T* wr = Wt + i * NO + o0;
+        unroll<OB>([&](auto ob) {
+          const T w = wr[ob];
+          unroll<C>([&](auto c) { unroll<G>([&](auto g) { acc[ob][c][g] += w * a[c][g]; }); });
+        });
+      }
+      unroll<OB>([&](auto ob) {
+        unroll<G>([&](auto g) { Zv[(o0 + ob) * G + g] = acc[ob][0][g]; });
+        unroll<D>([&](auto i) {
+          unroll<G>([&](auto g) { Zi[((o0 + ob) * D + i) * G + g] = acc[ob][1 + i][g]; });
+        });
+      });
+    }
+  }
+
+  // The sigmoid on a layer's jets: A = (s0, s1 z_i) from the values Zv and Zi.
+  template <int N>
+  static void sigmoid(V* Zv, const V* Zi, V* A) {
+    Eigen::Map<Eigen::Array<T, N * G * L, 1>> z(reinterpret_cast<T*>(Zv));
+    z = (T(1) + (-z).exp()).inverse();
+    for (int o = 0; o < N; ++o)
+      unroll<G>([&](auto g) {
+        const V s0 = Zv[o * G + g], s1 = s0 - s0 * s0;
+        A[(o * C) * G + g] = s0;
+        unroll<D>([&](auto i) { A[(o * C + 1 + i) * G + g] = s1 * Zi[(o * D + i) * G + g]; });
+      });
+  }
+
+  // Adjoint of the sigmoid's jet map: Zb from Ab, given s0 (in A) and Zi.
+  template <int N>
+  static void sigmoid_back(const V* A, const V* Zi, const V* Ab, V* Zb) {
+    for (int o = 0; o < N; ++o)
+      unroll<G>([&](auto g) {
+        const V s0 = A[(o * C) * G + g], s1 = s0 - s0 * s0, s2 = s1 - T(2) * s0 * s1;
+        V z0 = Ab[(o * C) * G + g] * s1;
+        unroll<D>([&](auto i) {
+          const V ab = Ab[(o * C + 1 + i) * G + g];
+          z0 += ab * s2 * Zi[(o * D + i) * G + g];
+          Zb[(o * C + 1 + i) * G + g] = ab * s1;
+        });
+        Zb[(o * C) * G + g] = z0;
+      });
+  }
+
+  // Lane accumulators of layer k's weights and biases (k >= 1): dW[o][i] += sum_c,g Zb[o][c][g]
+  // A_in[i][c][g], db[o] += sum_g Zb[o][0][g].
+  template <int NI, int NO>
+  static void weight_grad(const V* Zb, const V* Ain, V* dW, V* db) {
+    static_assert(NO % 2 == 0);
+    for (int o0 = 0; o0 < NO; o0 += 2) {
+      V z[2][C][G];
+      unroll<2>([&](auto ob) {
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { z[ob][c][g] = Zb[((o0 + ob) * C + c) * G + g]; }); });
+      });
+      for (int i = 0; i < NI; ++i) {
+        V a[C][G];
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { a[c][g] = Ain[(i * C + c) * G + g]; }); });
+        // One short chain per vector of points, then their sum: the loop is not bound by
+        // the latency of a chain of C x G dependent FMAs.
+        unroll<2>([&](auto ob) {
+          V part[G];
+          unroll<G>([&](auto g) {
+            part[g] = z[ob][0][g] * a[0][g];
+            unroll<C - 1>([&](auto c) { part[g] += z[ob][1 + c][g] * a[1 + c][g]; });
+          });
+          V sum = part[0];
+          unroll<G - 1>([&](auto g) { sum += part[1 + g]; });
+          dW[(o0 + ob) * NI + i] += sum;
+        });
+      }
+      unroll<2>([&](auto ob) {
+        V acc = db[o0 + ob];
+        unroll<G>([&](auto g) { acc += z[ob][0][g]; });
+        db[o0 + ob] = acc;
+      });
+    }
+  }
+
+  // Ab = W^T Zb of layer k >= 1 (W row-major [NO][NI]).
+  // Inputs per register block here: the block's accumulators and one row of Zb must fit the 32
+  // vector registers with room to spare (2D: 4 x 3 x 2 + 6 spilled).
+  static constexpr int IB = OB * C * G + C * G <= 26 ? OB : OB / 2;
+
+  template <int NI, int NO>
+  static void backward_input(const T* W, const V* Zb, V* Ab) {
+    for (int i0 = 0; i0 < NI; i0 += IB) {
+      V acc[IB][C][G];
+      unroll<IB>([&](auto ib) {
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { acc[ib][c][g] = V{}; }); });
+      });
+      for (int o = 0; o < NO; ++o) {
+        V z[C][G];
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { z[c][g] = Zb[(o * C + c) * G + g]; }); });
+        const T* wr = W + o * NI + i0;
+        unroll<IB>([&](auto ib) {
+          const T w = wr[ib];
+          unroll<C>([&](auto c) { unroll<G>([&](auto g) { acc[ib][c][g] += w * z[c][g]; }); });
+        });
+      }
+      unroll<IB>([&](auto ib) {
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { Ab[((i0 + ib) * C + c) * G + g] = acc[ib][c][g]; }); });
+      });
+    }
+  }
+
+  static LossValues run(const T* params, const LossBatch<T>& batch, const LossWeights& w, T* grad,
+                        FusedWorkspace<T>& ws) {
+    const Buffers b = buffers(ws);
+    const int m = batch.m;
+    // The hidden layers' weights transposed for the forward products (k >= 1).
+    unroll<NL - 1>([&](auto km1) {
+      constexpr int k = km1 + 1;
+      if constexpr (k < NL - 1) {
+        constexpr int NI = kWidth[k], NO = kWidth[k + 1];
+        const T* W = params + woff(k);
+        T* Wt = b.Wt + woff(k);
+        for (int o = 0; o < NO; ++o)
+          for (int i = 0; i < NI; ++i) Wt[i * NO + o] = W[o * NI + i];
+      }
+    });
+    if (grad)
+      for (int p = 0; p < P; ++p) b.dw[p] = V{};
+    V sz = V{}, sf = V{};
+    const T inv_m = m > 0 ? T(1) / T(m) : T(0);
+    const T cz = T(w.z) * inv_m * T(2), cf = T(w.f) * inv_m * T(2);
+    const bool use_z = w.z != 0, use_f = w.f != 0;
+    for (int p0 = 0; p0 < m; p0 += G * L) {
+      // The group's points; lanes past the end carry zero weight and zero inputs.
+      for (int g = 0; g < G; ++g)
+        for (int l = 0; l < L; ++l) {
+          const int p = p0 + g * L + l;
+          const bool in = p < m;
+          b.Y[g][l] = in ? batch.y[p] : T(0);
+          b.K[g][l] = in ? (batch.wt ? batch.wt[p] : T(1)) : T(0);
+          for (int j = 0; j < D; ++j) {
+            b.X[j * G + g][l] = in ? batch.x[size_t(p) * D + j] : T(0);
+            b.Gd[j * G + g][l] = in ? batch.g[size_t(p) * D + j] : T(0);
+          }
+        }
+      // Layer 0: z = W x + b, z_i = W[:, i] (the input jet is (x, e_i)).
+      {
+        constexpr int NO = kWidth[1];
+        const T* W0 = params + woff(0);
+        const T* b0 = params + boff(0);
+        for (int o = 0; o < NO; ++o)
+          unroll<G>([&](auto g) {
+            V z = V{} + b0[o];
+            unroll<D>([&](auto j) { z += W0[o * D + j] * b.X[j * G + g]; });
+            b.Zv[o * G + g] = z;
+            unroll<D>([&](auto j) { b.Zi[(o * D + j) * G + g] = V{} + W0[o * D + j]; });
+          });
+        sigmoid<NO>(b.Zv, b.Zi, b.A);
+      }
+      unroll<NH - 1>([&](auto km1) {
+        constexpr int k = km1 + 1;
+        constexpr int NI = kWidth[k], NO = kWidth[k + 1];
+        forward_dense<NI, NO>(b.Wt + woff(k), params + boff(k), b.A + aoff(k - 1), b.Zv, b.Zi + zoff(k));
+        sigmoid<NO>(b.Zv, b.Zi + zoff(k), b.A + aoff(k));
+      });
+      // The linear output layer and the losses.
+      constexpr int NI = kWidth[NH];
+      const V* Al = b.A + aoff(NH - 1);
+      const T* Wo = params + woff(NH);
+      V y[C][G];
+      unroll<C>([&](auto c) { unroll<G>([&](auto g) { y[c][g] = V{} + (c == 0 ? params[boff(NH)] : T(0)); }); });
+      for (int i = 0; i < NI; ++i) {
+        const T wi = Wo[i];
+        unroll<C>([&](auto c) { unroll<G>([&](auto g) { y[c][g] += wi * Al[(i * C + c) * G + g]; }); });
+      }
+      V yb[C][G];
+      unroll<G>([&](auto g) {
+        const V k = b.K[g];
+        const V r = y[0][g] - b.Y[g];
+        if (use_z) sz += k * r * r;
+        yb[0][g] = use_z ? cz * k * r : V{};
+        unroll<D>([&](auto i) {
+          const V ri = y[1 + i][g] - b.Gd[i * G + g];
+          if (use_f) sf += k * ri * ri;
+          yb[1 + i][g] = use_f ? cf * k * ri : V{};
+        });
+      });
+      if (!grad) continue;
+      // Reverse: the output layer.
+      {
+        V* dW = b.dw + woff(NH);
+        for (int i = 0; i < NI; ++i) {
+          V acc = dW[i];
+          unroll<C>([&](auto c) {
+            unroll<G>([&](auto g) {
+              acc += yb[c][g] * Al[(i * C + c) * G + g];
+              b.Ab[(i * C + c) * G + g] = Wo[i] * yb[c][g];
+            });
+          });
+          dW[i] = acc;
+        }
+        V acc = b.dw[boff(NH)];
+        unroll<G>([&](auto g) { acc += yb[0][g]; });
+        b.dw[boff(NH)] = acc;
+      }
+      // The hidden layers, last to first.
+      unroll<NH>([&](auto r) {
+        constexpr int k = NH - 1 - r;  // hidden layer k: the output of weight layer k
+        constexpr int NO = kWidth[k + 1];
+        sigmoid_back<NO>(b.A + aoff(k), b.Zi + zoff(k), b.Ab, b.Zb);
+        if constexpr (k >= 1) {
+          constexpr int NIk = kWidth[k];
+          weight_grad<NIk, NO>(b.Zb, b.A + aoff(k - 1), b.dw + woff(k), b.dw + boff(k));
+          backward_input<NIk, NO>(params + woff(k), b.Zb, b.Ab);
+        } else {
+          V* dW = b.dw + woff(0);
+          V* db = b.dw + boff(0);
+          for (int o = 0; o < NO; ++o) {
+            V acc = db[o];
+            unroll<G>([&](auto g) { acc += b.Zb[(o * C) * G + g]; });
+            db[o] = acc;
+            unroll<D>([&](auto j) {
+              V a = dW[o * D + j];
+              unroll<G>([&](auto g) {
+                a += b.Zb[(o * C) * G + g] * b.X[j * G + g];
+                a += b.Zb[(o * C + 1 + j) * G + g];
+              });
+              dW[o * D + j] = a;
+            });
+          }
+        }
+      });
+    }
+    LossValues v;
+    T tz = 0, tf = 0;
+    for (int l = 0; l < L; ++l) tz += sz[l], tf += sf[l];
+    v.z = double(tz) * double(inv_m);
+    v.f = double(tf) * double(inv_m);
+    v.total = w.z * v.z + w.f * v.f;
+    if (grad)
+      for (int p = 0; p < P; ++p) {
+        T s = 0;
+        for (int l = 0; l < L; ++l) s += b.dw[p][l];
+        grad[p] = s;
+      }
+    return v;
+  }
+};
+
+bool hidden_is(const NetworkDesc& desc, std::initializer_list<int> h) {
+  return desc.hidden.size() == h.size() && std::equal(h.begin(), h.end(), desc.hidden.begin());
+}
+
+}  // namespace
+
+bool fused_order1_supported(const NetworkDesc& desc) {
+  return (desc.input_dim == 1 || desc.input_dim == 2) && desc.activation == "sigmoid" &&
+         (hidden_is(desc, {16, 32, 16}) || hidden_is(desc, {32, 32}));
+}
+
+template <class T>
+LossValues fused_data_loss_grad(const NetworkDesc& desc, const T* params, const LossBatch<T>& batch,
+                                const LossWeights& w, T* grad, FusedWorkspace<T>& ws) {
+  const bool d1 = desc.input_dim == 1;
+  if (hidden_is(desc, {16, 32, 16}) && desc.input_dim <= 2)
+    return d1 ? Fused<T, 1, 16, 32, 16>::run(params, batch, w, grad, ws)
+              : Fused<T, 2, 16, 32, 16>::run(params, batch, w, grad, ws);
+  if (hidden_is(desc, {32, 32}) && desc.input_dim <= 2)
+    return d1 ? Fused<T, 1, 32, 32>::run(params, batch, w, grad, ws) : Fused<T, 2, 32, 32>::run(params, batch, w, grad, ws);
+  throw std::invalid_argument("fused_data_loss_grad: network shape not compiled in (fused_order1_supported)");
+}
+
+template LossValues fused_data_loss_grad<float>(const NetworkDesc&, const float*, const LossBatch<float>&,
+                                                const LossWeights&, float*, FusedWorkspace<float>&);
+template LossValues fused_data_loss_grad<double>(const NetworkDesc&, const double*, const LossBatch<double>&,
+                                                 const LossWeights&, double*, FusedWorkspace<double>&);
+
+}  // namespace yarnhom::cpu
