@@ -67,6 +67,9 @@ void register_rve(CLI::App& app) {
   cmd->add_option("--obj", o->obj, "Write a tube mesh of the yarns (OBJ)");
   cmd->add_option("--pattern-out", o->pattern_out,
                   "Write the pattern relaxed at rest as .pyp (its geometry is then an equilibrium)");
+  cmd->add_option("--energy-map", o->energy_map,
+                  "Write where the energy sits at the solved strain: one tab-separated row per vertex (yarn, "
+                  "position, stretch, bend, twist, contact, barrier in J/m^2, curvature now and at rest; docs/rve.md)");
   add_reference_options(cmd, *o);
   add_solve_options(cmd, *o);
   add_report_options(cmd, *o);

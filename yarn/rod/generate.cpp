@@ -83,7 +83,10 @@ Pattern paper_stockinette() {
 // tile has two rest minima close together: this sampling (184 vertices, edges of about one
 // radius) settles in the published one; 176-194 vertices (edges 5 % longer or shorter, 1 %
 // longer) settle at 0.55-0.56 J/m^2, while small changes of the shape (loop height +0.4 %,
-// float lift -0.013 r) keep 0.321-0.325.
+// float lift -0.013 r) keep 0.321-0.325. The two are a bifurcation of the relaxation: the lower legs
+// of the knit courses' loops over the purl loops below move 2.4 r to the back (the tile thickens to
+// the published tile's thickness) or 0.9 r only (the tile shortens 3.7 % along the wale); a deeper
+// sinker_gap does not remove the choice (docs/rve.md, "Where the energy sits").
 Pattern paper_slip_stitch_honeycomb() {
   const double r = 1e-3;
   KnitParams p;
@@ -112,13 +115,16 @@ Pattern paper_slip_stitch_honeycomb() {
 // the face the course holds its yarn on. Two courses: half the published four-course tile (whose
 // courses 2 and 3 repeat 0 and 1, the yarn running the other way). Shape parameters in radii,
 // the yarn length 173.5 mm against the published 167.0 per two courses (+3.9 %). The relaxed rest
-// energy does not match yet: 1.80 against 0.772 J/m^2 (test_paper_patterns.cpp), stretching 0.47
-// (published 0.15), bending 1.01 (0.50), contact 0.27 (0.12) J/m^2: the generated tile relaxes
-// 7 % taller (the published 4 %), its yarn pressed along the wale. The published tile's garter
-// loops lean sideways towards the long loops (heads at +3.0 r in the knit course, -0.5 r in the
-// purl course, legs near the mid-plane), which this loop shape does not represent; within it,
-// a coordinate search of the parameters below found no lower energy with the yarn length within
-// 4 % (more yarn lowers it: 1.03 J/m^2 at +8 %).
+// energy does not match yet: 1.80 against 0.772 J/m^2 (test_paper_patterns.cpp), stretch 0.47
+// (published 0.15), bend 1.01 (0.50), contact 0.27 (0.12) J/m^2, 2-4 times the published tile's in
+// every wale (docs/rve.md, "Where the energy sits", from `rve --energy-map`). The structural fault:
+// a held loop's catching stitch is itself held here, its legs at held_depth, but the head is placed
+// opposite legs at depth, so each long loop runs through the whole thickness to a head on the other
+// face (stored at +2.6 r, legs at -4.75 r: 29 r of travel along z per course where the published
+// loop spends 12, its head at -3.7 r on its legs' side) and the relaxation drags it 4.6 r back,
+// stretching the yarn 4.2 % and bending the garter loops' straight legs. Heads on the legs' side
+// (with lower, narrower held loops and lifted floats) reach 0.93 J/m^2 but turn in 0.38 r, or the
+// geometry intersects: this loop shape cannot hold the published long loops (docs/rve.md).
 Pattern paper_cartridge_belt_rib() {
   const double r = 1e-3;
   KnitParams p;

@@ -14,6 +14,7 @@
 #include "core/terms.hpp"
 #include "yarn/rod/load_pattern.hpp"
 #include "yarn/rve/energy_density.hpp"
+#include "yarn/rve/energy_map.hpp"
 #include "yarn/rve/relax.hpp"
 #include "yarn/rve/rest.hpp"
 #include "yarn/rve/rest_hessian.hpp"
@@ -65,6 +66,7 @@ void check_outputs(const RveRunOptions& o) {
   if (!o.out.empty()) outs.push_back({prepare_output(o.out, inputs, "--out"), "--out"});
   if (!o.obj.empty()) outs.push_back({prepare_output(o.obj, inputs, "--obj"), "--obj"});
   if (!o.pattern_out.empty()) outs.push_back({prepare_output(o.pattern_out, inputs, "--pattern-out"), "--pattern-out"});
+  if (!o.energy_map.empty()) outs.push_back({prepare_output(o.energy_map, inputs, "--energy-map"), "--energy-map"});
   for (size_t i = 0; i < outs.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (std::filesystem::weakly_canonical(outs[i].first) == std::filesystem::weakly_canonical(outs[j].first))
@@ -191,6 +193,7 @@ void print_text(const RveRunOptions& o, const RveOutcome& x) {
   std::printf("topology    %s\n", summary(x.st.certificate, 2 * rve.radius()).c_str());
   if (!o.out.empty()) std::printf("state       %s\n", o.out.c_str());
   if (!o.obj.empty()) std::printf("mesh        %s\n", o.obj.c_str());
+  if (!o.energy_map.empty()) std::printf("energy map  %s\n", o.energy_map.c_str());
 }
 
 int exit_status(const RveOutcome& x) {
@@ -239,6 +242,7 @@ int run_rve(const RveRunOptions& o) {
   x.r = energy_density(*x.rve, x.s, x.st, opt);
   if (!o.out.empty()) write_state(o.out, *x.rve, x.s, x.st, x.r);
   if (!o.obj.empty()) write_obj(o.obj, *x.rve, x.s, x.st);
+  if (!o.energy_map.empty()) write_energy_map(o.energy_map, *x.rve, energy_map(*x.rve, x.s, x.st));
   if (o.json)
     print_json(o, x);
   else

@@ -7,7 +7,8 @@
 namespace yarnhom::yarn {
 
 struct RveRunOptions {
-  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify, tile = "1,1";
+  std::string pattern, strain = "0,0,0,0,0,0", material, out, obj, start, pattern_out, certify, tile = "1,1",
+      energy_map;
   bool json = false, verbose = false, fixed_period = false, no_ccd = false, rest_hessian = false;
   double tolerance = 1e-10, time_limit = 300;
   int max_iterations = 500;
