@@ -70,6 +70,15 @@ class Backend {
                          std::vector<EpochStats>& stats) = 0;
   // The current weights of network j.
   virtual std::vector<float> params(int j) = 0;
+  // Backends whose networks share nothing (the CPU's) can also run one network's epoch on its
+  // own, from any thread, one call per network at a time: the trainer then gives each thread
+  // whole networks (all their epochs, then their polish) instead of a barrier after every epoch
+  // (train/trainer.cpp). The same weights either way.
+  virtual bool independent_networks() const { return false; }
+  virtual EpochStats run_network_epoch(int j, int epoch, double lr) {
+    (void)j, (void)epoch, (void)lr;
+    return {};
+  }
   // The full-batch polish after the epochs (train/polish.hpp) of the networks `which` of the run,
   // on this backend's device: params[j] is polished in place and results[j] filled for every j
   // it takes; it returns, per entry of `which`, whether it took it (the trainer polishes the

@@ -70,6 +70,9 @@ class CpuBackend final : public Backend {
 
   std::vector<float> params(int j) override { return nets_[j].params; }
 
+  bool independent_networks() const override { return true; }
+  EpochStats run_network_epoch(int j, int epoch, double lr) override { return epoch_one(nets_[j], epoch, lr, 1); }
+
  private:
   EpochStats epoch_one(CpuNetwork& n, int epoch, double lr, int threads) {
     cpu::flush_denormals();

@@ -158,71 +158,114 @@ TrainResult train_terms(const Dataset& ds, const std::string& dataset_path,
   res.rows.resize(J);
   res.seconds.assign(J, 0.0);
   for (size_t j = 0; j < J; ++j) res.rows[j].name = jobs[j].name;
-  std::vector<EpochStats> stats;
-
-  for (int e = 0; e < opt.config.epochs; ++e) {
-    backend.run_epoch(e, lr, active, stats);
-    bool any = false;
-    for (size_t j = 0; j < J; ++j) {
-      if (!active[j]) continue;
-      const EpochStats& st = stats[j];
-      res.seconds[j] += st.seconds;
-      ProgressRow& row = res.rows[j];
-      row.stats = st;
-      row.lr = lr[j];
-      row.epochs_done = e + 1;
-      if (!std::isfinite(st.train.total) || !std::isfinite(st.val.total)) {
-        row.status = "non-finite loss at epoch " + std::to_string(e + 1);
-        row.active = false;
-        active[j] = 0;
-        continue;
-      }
-      History& h = hist[j];
-      h.train_loss.push_back(st.train.total);
-      h.val_loss.push_back(st.val.total);
-      h.lr.push_back(lr[j]);
-      h.loss_z.push_back(st.train.z);
-      h.loss_f.push_back(st.train.f);
-      h.loss_c.push_back(st.train.c);
-      h.loss_s.push_back(st.train.s);
-      lr[j] = sched[j].step(st.val.total);
-      any = true;
+  // One network's epoch in the books: history, status, the plateau schedule. False once the
+  // network has stopped (non-finite loss).
+  auto record_epoch = [&](size_t j, int e, const EpochStats& st) {
+    res.seconds[j] += st.seconds;
+    ProgressRow& row = res.rows[j];
+    row.stats = st;
+    row.lr = lr[j];
+    row.epochs_done = e + 1;
+    if (!std::isfinite(st.train.total) || !std::isfinite(st.val.total)) {
+      row.status = "non-finite loss at epoch " + std::to_string(e + 1);
+      row.active = false;
+      active[j] = 0;
+      return false;
     }
-    if (progress) progress(e + 1, opt.config.epochs, res.rows);
-    if (!any) break;
-  }
-
-  // The polish: independent per network, so the networks run in parallel (one per thread).
-  res.polish.assign(J, {});
-  std::vector<std::vector<float>> final_params(J);
-  for (size_t j = 0; j < J; ++j)
-    if (res.rows[j].status == "ok") final_params[j] = backend.params(int(j));
-  if (opt.polish.iterations > 0) {
-    std::vector<int> todo;
-    for (size_t j = 0; j < J; ++j)
-      if (res.rows[j].status == "ok") todo.push_back(int(j));
-    // Longest first (cost ~ points x jet channels), as in the CPU backend's epochs.
-    std::stable_sort(todo.begin(), todo.end(), [&](int a, int b) {
+    History& h = hist[j];
+    h.train_loss.push_back(st.train.total);
+    h.val_loss.push_back(st.val.total);
+    h.lr.push_back(lr[j]);
+    h.loss_z.push_back(st.train.z);
+    h.loss_f.push_back(st.train.f);
+    h.loss_c.push_back(st.train.c);
+    h.loss_s.push_back(st.train.s);
+    lr[j] = sched[j].step(st.val.total);
+    return true;
+  };
+  // Longest first (cost ~ points x jet channels), as in the CPU backend's epochs.
+  auto longest_first = [&](std::vector<int>& v) {
+    std::stable_sort(v.begin(), v.end(), [&](int a, int b) {
       return double(jobs[a].n_train) * (jobs[a].desc.input_dim == 1 ? 4 : 10) >
              double(jobs[b].n_train) * (jobs[b].desc.input_dim == 1 ? 4 : 10);
     });
-    // The backend's device takes what it can (the CUDA backend: all of the default recipe's
-    // networks in one launch); the CPU polishes the rest, one network per thread.
-    const std::vector<char> took = backend.polish(jobs, opt.config, opt.polish, todo, final_params, res.polish);
-    std::vector<int> host;
-    for (size_t i = 0; i < todo.size(); ++i)
-      if (!took[i]) host.push_back(todo[i]);
-    const int T = std::max(1, std::min<int>(opt.config.threads, int(host.size())));
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
-    for (size_t i = 0; i < host.size(); ++i) {
-      const int j = host[i];
-      res.polish[j] = polish_network(jobs[j], opt.config, opt.polish, final_params[j]);
+  };
+  res.polish.assign(J, {});
+  std::vector<std::vector<float>> final_params(J);
+  const bool polish = opt.polish.iterations > 0;
+  const int threads = std::max(1, opt.config.threads);
+
+  if (backend.independent_networks() && J > 1 && threads > 1) {
+    // Whole networks per thread: each task runs one network's epochs, then its polish, with no
+    // barrier between the networks (a barrier per epoch waited for the slowest network of every
+    // epoch, and on shared cores for every preempted thread). Each network's arithmetic is
+    // what the per-epoch loop does, so the weights are the same for any thread count.
+    std::vector<int> order(J);
+    for (size_t j = 0; j < J; ++j) order[j] = int(j);
+    longest_first(order);
+    long done = 0;       // network-epochs recorded
+    int reported = 0;    // epochs shown by the progress (done / J)
+#pragma omp parallel for num_threads(std::min<int>(threads, int(J))) schedule(dynamic, 1)
+    for (size_t i = 0; i < J; ++i) {
+      const int j = order[i];
+      for (int e = 0; e < opt.config.epochs; ++e) {
+        const EpochStats st = backend.run_network_epoch(j, e, lr[j]);
+        bool go = true;
+#pragma omp critical(yarnhom_trainer_books)
+        {
+          go = record_epoch(size_t(j), e, st);
+          const int ep = int(++done / long(J));
+          if (progress && ep > reported && ep < opt.config.epochs) {
+            reported = ep;
+            progress(ep, opt.config.epochs, res.rows);
+          }
+        }
+        if (!go) break;
+      }
+      if (res.rows[j].status == "ok") {
+        final_params[j] = backend.params(j);
+        if (polish) res.polish[j] = polish_network(jobs[j], opt.config, opt.polish, final_params[j]);
+      }
     }
-    for (int j : todo) {
+    if (progress) progress(opt.config.epochs, opt.config.epochs, res.rows);
+  } else {
+    std::vector<EpochStats> stats;
+    for (int e = 0; e < opt.config.epochs; ++e) {
+      backend.run_epoch(e, lr, active, stats);
+      bool any = false;
+      for (size_t j = 0; j < J; ++j)
+        if (active[j]) any = record_epoch(j, e, stats[j]) || any;
+      if (progress) progress(e + 1, opt.config.epochs, res.rows);
+      if (!any) break;
+    }
+    for (size_t j = 0; j < J; ++j)
+      if (res.rows[j].status == "ok") final_params[j] = backend.params(int(j));
+    // The polish: independent per network, so the networks run in parallel (one per thread).
+    if (polish) {
+      std::vector<int> todo;
+      for (size_t j = 0; j < J; ++j)
+        if (res.rows[j].status == "ok") todo.push_back(int(j));
+      longest_first(todo);
+      // The backend's device takes what it can (the CUDA backend: all of the default recipe's
+      // networks in one launch); the CPU polishes the rest, one network per thread.
+      const std::vector<char> took = backend.polish(jobs, opt.config, opt.polish, todo, final_params, res.polish);
+      std::vector<int> host;
+      for (size_t i = 0; i < todo.size(); ++i)
+        if (!took[i]) host.push_back(todo[i]);
+      const int T = std::max(1, std::min<int>(threads, int(host.size())));
+#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+      for (size_t i = 0; i < host.size(); ++i) {
+        const int j = host[i];
+        res.polish[j] = polish_network(jobs[j], opt.config, opt.polish, final_params[j]);
+      }
+    }
+  }
+  if (polish)
+    for (size_t j = 0; j < J; ++j) {
+      if (res.rows[j].status != "ok") continue;
       res.seconds[j] += res.polish[j].seconds;
       if (!std::isfinite(res.polish[j].val_end)) res.rows[j].status = "non-finite loss in the polish";
     }
-  }
 
   res.val_fit.assign(J, {});
   res.all_fit.assign(J, {});

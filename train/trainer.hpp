@@ -3,7 +3,9 @@
 // (seeded 90/10 split, normalization to [-1,1]^d and unit-variance energies, PyTorch's default
 // initialization, fixed validation off-domain points), then drives a backend epoch by epoch
 // with ReduceLROnPlateau on the validation loss, records the history, and stops a network
-// whose loss becomes non-finite (the others go on).
+// whose loss becomes non-finite (the others go on). On a backend whose networks are
+// independent (the CPU's) with several threads, each thread takes whole networks, all their
+// epochs and then their polish, with no barrier between epochs; the weights are the same.
 #include <functional>
 #include <string>
 #include <vector>
