@@ -7,6 +7,7 @@
 #include <string>
 
 #include "numerics/contact_pairs.hpp"
+#include "sim/contact_broad_phase.hpp"
 #include "numerics/psd_projection.hpp"
 #include "sim/friction.hpp"
 
@@ -42,79 +43,7 @@ V3 at(const Eigen::VectorXd& v, int k) { return v.segment<3>(3 * k); }
 // Point k of the slot's owner at (x, y).
 V3 slot_position(int s, const Eigen::VectorXd& x, const Eigen::VectorXd& y) { return s >= 0 ? at(x, s) : at(y, -1 - s); }
 
-template <class Idx>
-Box3 move_box(const Idx& idx, int n, const Eigen::VectorXd& p0, const Eigen::VectorXd& p1, double reach) {
-  Box3 b{at(p0, idx[0]), at(p0, idx[0])};
-  for (int i = 0; i < n; ++i)
-    for (const Eigen::VectorXd* p : {&p0, &p1}) {
-      b.lo = b.lo.cwiseMin(at(*p, idx[i]));
-      b.hi = b.hi.cwiseMax(at(*p, idx[i]));
-    }
-  b.lo.array() -= reach;
-  b.hi.array() += reach;
-  return b;
-}
-
-// The vertex's representative: stitched vertices count as one (Problem::vertex_rep).
-int rep(const Problem& P, int v) { return P.vertex_rep.empty() ? v : P.vertex_rep[v]; }
-bool shares(const Problem& P, const Eigen::Vector3i& t, int v) {
-  const int r = rep(P, v);
-  return rep(P, t[0]) == r || rep(P, t[1]) == r || rep(P, t[2]) == r;
-}
-
 }  // namespace
-
-std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
-                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) {
-  std::vector<ContactPair> out;
-  if (!has_contact(P)) return out;
-  const Mesh& m = P.mesh;
-  const ObstacleSet& O = P.obstacles;
-  const double half = 0.5 * P.dhat;
-  const int n = m.num_vertices(), nt = m.num_triangles(), ne = int(P.edges.size());
-  std::vector<Box3> vb(n), tb(nt), eb(ne);
-  for (int v = 0; v < n; ++v) vb[v] = move_box(std::array<int, 1>{v}, 1, x0, x1, half);
-  std::vector<Eigen::Vector3i> tris(nt);
-  for (int t = 0; t < nt; ++t) {
-    tris[t] = m.tris.row(t).transpose();
-    tb[t] = move_box(tris[t], 3, x0, x1, half);
-  }
-  for (int e = 0; e < ne; ++e) eb[e] = move_box(P.edges[e], 2, x0, x1, half);
-  if (P.self_collision) {
-    for (const auto& [t, v] : numerics::box_pairs(tb, vb)) {
-      if (shares(P, tris[t], v)) continue;
-      out.push_back({ContactKind::PointTriangle, {v, tris[t][0], tris[t][1], tris[t][2]}, 0.0, P.self_friction});
-    }
-    for (const auto& [a, b] : numerics::box_pairs(eb, eb, true)) {
-      const Eigen::Vector2i &ea = P.edges[a], &e2 = P.edges[b];
-      const int a0 = rep(P, ea[0]), a1 = rep(P, ea[1]), b0 = rep(P, e2[0]), b1 = rep(P, e2[1]);
-      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-      out.push_back({ContactKind::EdgeEdge, {ea[0], ea[1], e2[0], e2[1]}, 0.0, P.self_friction});
-    }
-  }
-  if (O.empty()) return out;
-  // Obstacle primitives, inflated by their radius plus half of dhat.
-  std::vector<Box3> ob_t(O.tris.size()), ob_e(O.edges.size()), ob_p(O.num_points);
-  for (size_t t = 0; t < O.tris.size(); ++t) ob_t[t] = move_box(O.tris[t], 3, y0, y1, half);
-  for (size_t e = 0; e < O.edges.size(); ++e) ob_e[e] = move_box(O.edges[e], 2, y0, y1, half + O.edge_radius[e]);
-  std::vector<double> point_radius(O.num_points, 0.0);
-  for (size_t e = 0; e < O.edges.size(); ++e)
-    if (O.edge_radius[e] > 0) point_radius[O.edges[e][0]] = point_radius[O.edges[e][1]] = O.edge_radius[e];
-  for (int k = 0; k < O.num_points; ++k) ob_p[k] = move_box(std::array<int, 1>{k}, 1, y0, y1, half + point_radius[k]);
-  for (const auto& [t, v] : numerics::box_pairs(ob_t, vb)) {
-    const Eigen::Vector3i& T = O.tris[t];
-    out.push_back({ContactKind::PointTriangle, {v, -1 - T[0], -1 - T[1], -1 - T[2]}, 0.0, O.tri_friction[t]});
-  }
-  for (const auto& [t, k] : numerics::box_pairs(tb, ob_p))
-    out.push_back({ContactKind::PointTriangle, {-1 - k, tris[t][0], tris[t][1], tris[t][2]}, point_radius[k],
-                   O.point_friction[k]});
-  for (const auto& [e, f] : numerics::box_pairs(eb, ob_e)) {
-    const Eigen::Vector2i& E = O.edges[f];
-    out.push_back({ContactKind::EdgeEdge, {P.edges[e][0], P.edges[e][1], -1 - E[0], -1 - E[1]}, O.edge_radius[f],
-                   O.edge_friction[f]});
-  }
-  return out;
-}
 
 Vec12 pair_coordinates(const ContactPair& c, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   Vec12 q;
@@ -162,9 +91,10 @@ numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c) {
 }
 
 double contact_energy(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x,
-                      const Eigen::VectorXd& y, Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* trip) {
+                      const Eigen::VectorXd& y, Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* trip,
+                      ContactCache* cache) {
   if (!has_contact(P)) return 0.0;
-  const std::vector<ContactPair> pairs = contact_candidates(P, x, x, y, y);
+  const std::vector<ContactPair> pairs = contact_candidates(P, x, x, y, y, cache);
   double E = 0;
   for (const ContactPair& c : pairs) {
     const Vec12 q = pair_coordinates(c, x, y);
@@ -182,12 +112,13 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
 }
 
 double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
-                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits) {
+                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits,
+                          ContactCache* cache) {
   if (!has_contact(P)) return 1.0;
   if (!(dx.cwiseAbs().maxCoeff() > 0) && !(dy.size() && dy.cwiseAbs().maxCoeff() > 0)) return 1.0;  // no move
   const Eigen::VectorXd x1 = x0 + dx, y1 = y0 + dy;
   double t = 1.0;
-  for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1)) {
+  for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1, cache)) {
     const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
     if (q0 == q1) continue;
     numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, 0.1);
@@ -228,7 +159,8 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
 }
 
 double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
-                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds) {
+                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds,
+                      ContactCache* cache) {
   if (!has_contact(P)) return 1.0;
   const Eigen::VectorXd dy = y1 - y0;
   // 1 held at x0, 2 carried by an obstacle (since round carried[v]), 3 held for good
@@ -236,7 +168,7 @@ double make_move_safe(const Problem& P, const std::vector<int>& free_index, cons
   std::vector<int> carried(P.mesh.num_vertices(), 0);
   for (int round = 0;; ++round) {
     std::vector<ContactHit> hits;
-    const double t = contact_step_bound(P, x0, x1 - x0, y0, dy, &hits);
+    const double t = contact_step_bound(P, x0, x1 - x0, y0, dy, &hits, cache);
     if (t >= 1 || round == rounds) return t;
     bool changed = false;
     for (const ContactHit& h : hits) {
@@ -271,10 +203,11 @@ double make_move_safe(const Problem& P, const std::vector<int>& free_index, cons
 }
 
 std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::VectorXd& x_at, const Eigen::VectorXd& y_at,
-                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start) {
+                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start,
+                                                 ContactCache* cache) {
   std::vector<PairFriction> out;
   if (!has_contact(P)) return out;
-  for (const ContactPair& c : contact_candidates(P, x_at, x_at, y_at, y_at)) {
+  for (const ContactPair& c : contact_candidates(P, x_at, x_at, y_at, y_at, cache)) {
     if (!(c.mu > 0)) continue;
     const Vec12 q = pair_coordinates(c, x_at, y_at);
     const double d = numerics::contact_distance(c.kind, q);
@@ -333,7 +266,7 @@ bool contact_intersections(const Problem& P, const Eigen::VectorXd& x, const Eig
   for (const auto& [a, b] : numerics::box_pairs(tb, tb, true)) {
     bool adjacent = false;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) adjacent = adjacent || rep(P, m.tris(a, i)) == rep(P, m.tris(b, j));
+      for (int j = 0; j < 3; ++j) adjacent = adjacent || vertex_rep(P, m.tris(a, i)) == vertex_rep(P, m.tris(b, j));
     if (adjacent) continue;
     if (numerics::triangles_intersect(tri(a, 0), tri(a, 1), tri(a, 2), tri(b, 0), tri(b, 1), tri(b, 2))) {
       if (what) *what = "cloth triangles " + std::to_string(a) + " and " + std::to_string(b) + " intersect";

@@ -18,8 +18,10 @@
 //
 // Candidates come from a spatial hash over boxes (numerics/contact_pairs.hpp: box_pairs) inflated
 // so that two boxes overlap whenever their primitives may be within d_min + dhat: every energy
-// evaluation finds its own pairs at its own positions (no list carried between evaluations, so
-// no pair is missed), every CCD its pairs over the swept boxes of its move.
+// evaluation finds its own pairs at its own positions, every CCD its pairs over the swept boxes
+// of its move (sim/contact_broad_phase.hpp), either from a fresh hash or, given a ContactCache,
+// as the same pair set from a hash over a region that covers the positions (one per step's
+// stage of the simulator; the functions below take it as their last, optional argument).
 //
 // Friction between cloth layers and with obstacles: IPC's lagged friction (sim/friction.hpp's
 // mollifier) on the pair's relative tangential slip u = T^T sum_k w_k (q_k - q_k^start), w the
@@ -31,27 +33,17 @@
 
 #include "numerics/barrier.hpp"
 #include "numerics/contact_distance.hpp"
+#include "sim/contact_broad_phase.hpp"
 #include "sim/problem.hpp"
 
 namespace yarnhom::sim {
 
-struct ContactPair {
-  numerics::ContactKind kind = numerics::ContactKind::PointTriangle;
-  std::array<int, 4> slot{};  // cloth vertex >= 0; obstacle point k as -1 - k
-  double dmin = 0;            // m: capsule radius, else 0
-  double mu = 0;              // friction coefficient of the pair
-};
 
 // Unique cloth edges (a < b).
 std::vector<Eigen::Vector2i> cloth_edges(const Mesh& mesh);
 
 // True when P has anything for contact pairs (self-collision on, or obstacles).
 bool has_contact(const Problem& P);
-
-// Candidate pairs over the move x0 -> x1 (cloth, 3n) and y0 -> y1 (obstacles, 3K); x1 = x0 and
-// y1 = y0 for a static search.
-std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
-                                            const Eigen::VectorXd& y0, const Eigen::VectorXd& y1);
 
 // A pair's 12 coordinates.
 numerics::Vec12 pair_coordinates(const ContactPair& c, const Eigen::VectorXd& x, const Eigen::VectorXd& y);
@@ -64,7 +56,7 @@ numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c);
 // free_index of the DofMap). Returns +inf when a pair is at or below d_min.
 double contact_energy(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x,
                       const Eigen::VectorXd& y, Eigen::VectorXd* grad = nullptr,
-                      std::vector<Eigen::Triplet<double>>* triplets = nullptr);
+                      std::vector<Eigen::Triplet<double>>* triplets = nullptr, ContactCache* cache = nullptr);
 
 // The largest fraction of the move (x0 -> x0 + t dx, y0 -> y0 + t dy) on which no pair comes closer
 // than d_min + eta (d(0) - d_min) (numerics: contact_ccd); 1 when the whole move is safe. A pair
@@ -79,7 +71,8 @@ struct ContactHit {
   Eigen::Vector3d carry = Eigen::Vector3d::Zero();
 };
 double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
-                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits = nullptr);
+                          const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits = nullptr,
+                          ContactCache* cache = nullptr);
 
 // Makes the move (x0 -> x1, y0 -> y1) safe for contact where it can, by changing x1: a cloth
 // vertex of a limiting pair with an obstacle is carried by the obstacle's displacement (it moves
@@ -90,7 +83,8 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
 // holds the carrying obstacle back. Repeats while that changes something
 // (at most `rounds` times). Returns the safe fraction of the final move (1: all of it).
 double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
-                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds = 6);
+                      Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds = 6,
+                      ContactCache* cache = nullptr);
 
 // Lagged friction of one pair.
 struct PairFriction {
@@ -104,7 +98,8 @@ struct PairFriction {
 // Pairs with mu > 0 within their activation distance at (x_at, y_at); slip measured from
 // (x_start, y_start).
 std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::VectorXd& x_at, const Eigen::VectorXd& y_at,
-                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start);
+                                                 const Eigen::VectorXd& x_start, const Eigen::VectorXd& y_start,
+                                                 ContactCache* cache = nullptr);
 
 // The friction potential of the lagged pairs at (x, y), with gradient and Hessian triplets as
 // contact_energy.

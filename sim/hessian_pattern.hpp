@@ -8,12 +8,15 @@
 // row in each of its three columns.
 #include <Eigen/Sparse>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "sim/dof_map.hpp"
 #include "sim/mesh.hpp"
 
 namespace yarnhom::sim {
+
+class PaddedPattern;  // sim/contact_pattern.hpp
 
 struct HessianPattern {
   Eigen::SparseMatrix<double> matrix;  // 3F x 3F, lower triangle, values 0
@@ -24,6 +27,10 @@ struct HessianPattern {
   std::vector<int> elem_slots;  // [m][6][6][3]
   std::vector<unsigned long long> same_vertex;  // [m]: bit 6a + b when slots a and b are one vertex
   std::vector<int> diag_slots;  // [F][3]: value index of (3f + c, 3f + c)
+  // The matrix's kept pattern with contact couplings (sim/contact_pattern.hpp), across steps;
+  // null: the matrix with contact goes to the solver on its own pattern (the simulator sets it
+  // with self-collision on).
+  std::shared_ptr<PaddedPattern> contact;
   int slot(int t, int a, int b, int c) const { return elem_slots[((size_t(t) * 6 + a) * 6 + b) * 3 + c]; }
 };
 

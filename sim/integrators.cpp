@@ -47,7 +47,7 @@ NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const Hess
   if (has_contact(P)) {
     const Eigen::VectorXd y = solve_obstacles(P, S);
     const Eigen::VectorXd y0 = S.obstacle_y_start.size() == y.size() ? S.obstacle_y_start : y;
-    S.pair_friction = pair_friction_contacts(P, x_start, y0, x_start, y0);
+    S.pair_friction = pair_friction_contacts(P, x_start, y0, x_start, y0, S.contact_cache.get());
     S.friction_eps = eps;
   }
   NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile);
@@ -79,6 +79,10 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   if (P.air_drag > 0) S.normals = vertex_normals(P.mesh, x);
   if (P.rayleigh_beta > 0) S.K_prev = elastic_hessian(P, pat, x);
   const bool contact = has_contact(P);
+  // One broad phase serves the step's evaluations where their positions allow
+  // (sim/contact_broad_phase.hpp); without self-collision every call keeps its own.
+  if (P.self_collision) S.contact_cache = std::make_shared<ContactCache>();
+  ContactCache* cache = S.contact_cache.get();
   if (obstacles) {
     S.time = obstacles->time;
     if (P.gravity_delay > 0 && S.time < P.gravity_delay) S.gravity_scale = 0;
@@ -103,13 +107,18 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   // there bounds nothing. From x_n, Phi(x_{n+1}) <= Phi(x_n) = T_n + E_n (kinetic plus potential
   // energy; the damping terms vanish there), so no step, converged or not, creates energy
   // beyond E_{n+1} <= T_n + E_n. With contact, both are first made safe to reach from x_n.
+  // The safe fraction of the move x_n -> xn (y0 -> y1) as make_move_safe leaves it: the first
+  // stage's bound below, not computed again.
+  double t_first = -1;
   {
     Eigen::VectorXd xs = x;
     apply_targets(D, target, xs);
+    double t_s = 1, t_n = 1;
     if (contact) {
-      make_move_safe(P, D.free_index, x, xs, y0, y1);
-      make_move_safe(P, D.free_index, x, xn, y0, y1);
+      t_s = make_move_safe(P, D.free_index, x, xs, y0, y1, 6, cache);
+      t_n = make_move_safe(P, D.free_index, x, xn, y0, y1, 6, cache);
     }
+    t_first = t_n;
     double phi_start;
     if (std::isfinite(potential_at_x) && xs == x && !contact) {
       // Phi(x_n) = the inertia term, which is the kinetic energy there, plus the potential
@@ -117,11 +126,20 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
       double kinetic = 0;
       for (int i = 0; i < P.mesh.num_vertices(); ++i) kinetic += 0.5 * P.mass[i] * v.segment<3>(3 * i).squaredNorm();
       phi_start = kinetic + potential_at_x;
+    } else if (std::isfinite(potential_at_x) && xs == x && P.self_collision) {
+      // The same with contact: the recorded potential's shell energy (the record's E_shell plus
+      // external_potential) spares the pass over the elements; the contact, seam and inertia
+      // terms are evaluated. (Self-collision only: without it, the step stays as it was.)
+      const double shell_at_x = potential_at_x - external_potential(P, x);
+      phi_start = potential_value(P, D, S, xs, nullptr, &shell_at_x);
     } else {
       phi_start = potential_value(P, D, S, xs);
     }
     const double phi_pred = potential_value(P, D, S, xn);
-    if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) xn = xs;
+    if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) {
+      xn = xs;
+      t_first = t_s;
+    }
   }
   StepStats out;
   if (!contact) {
@@ -132,11 +150,13 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     Eigen::VectorXd xcur = x, ycur = y0;
     const int stages = obstacles ? std::max(1, obstacles->max_stages) : 8;
     for (int stage = 0; stage < stages; ++stage) {
+      // make_move_safe returns contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur) of the
+      // move it leaves (the same call on the same arguments).
+      double t = t_first;
       if (stage > 0) {
         apply_targets(D, target, xn);
-        make_move_safe(P, D.free_index, xcur, xn, ycur, y1);
+        t = make_move_safe(P, D.free_index, xcur, xn, ycur, y1, 6, cache);
       }
-      double t = contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur);
       // ... and by the colliders: a carried vertex must not be moved through a floor.
       for (const Collider& c : P.colliders)
         for (int v = 0; v < P.mesh.num_vertices(); ++v) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "numerics/newton.hpp"
+#include "sim/contact_pattern.hpp"
 #include "sim/hinge_angles.hpp"
 
 namespace yarnhom::sim {
@@ -76,8 +77,25 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       Hc.resize(H.rows(), H.cols());
       Hc.setFromTriplets(contact.begin(), contact.end());
       Hsum = H + Hc;
+      Hsum.makeCompressed();
       A = &Hsum;
-      diag.assign(Hsum.outerIndexPtr(), Hsum.outerIndexPtr() + 3 * F);
+      // With a kept pattern, the same values on it (sim/contact_pattern.hpp): the solver's
+      // analysis is reused while the contacts stay within it. Its pad: the couplings of the
+      // pairs within 2 dhat at x.
+      if (pat.contact)
+        A = &pat.contact->embed(Hsum, [&] {
+          const Eigen::VectorXd y = solve_obstacles(P, S);
+          std::vector<std::pair<int, int>> blocks;
+          for (const ContactPair& c : contact_candidates_within(P, x, y, 2 * P.dhat))
+            for (int k = 0; k < 4; ++k)
+              for (int l = 0; l < 4; ++l) {
+                const int fk = c.slot[k] >= 0 ? D.free_index[c.slot[k]] : -1;
+                const int fl = c.slot[l] >= 0 ? D.free_index[c.slot[l]] : -1;
+                if (fk > fl && fl >= 0) blocks.emplace_back(fk, fl);
+              }
+          return blocks;
+        });
+      diag.assign(A->outerIndexPtr(), A->outerIndexPtr() + 3 * F);
     } else {
       diag = pat.diag_slots;
     }

@@ -98,14 +98,15 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
 }  // namespace
 
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
-                       double* shell) {
-  double E = shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+                       double* shell, const double* known_shell) {
+  double E = known_shell ? *known_shell
+                         : shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
   if (shell) *shell = E;
   for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
   for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
   if (has_contact(P)) {
     const Eigen::VectorXd y = solve_obstacles(P, S);
-    E += contact_energy(P, D.free_index, x, y);
+    E += contact_energy(P, D.free_index, x, y, nullptr, nullptr, S.contact_cache.get());
     if (!S.pair_friction.empty()) E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y);
   }
   if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time);
@@ -137,7 +138,7 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
   }
   if (has_contact(P)) {
     const Eigen::VectorXd y = solve_obstacles(P, S);
-    E += contact_energy(P, D.free_index, x, y, &grad, contact);
+    E += contact_energy(P, D.free_index, x, y, &grad, contact, S.contact_cache.get());
     if (!S.pair_friction.empty())
       E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y, &grad, contact);
   }
@@ -175,7 +176,7 @@ double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen
   double tc = 1.0;
   if (S && has_contact(P)) {
     const Eigen::VectorXd y = solve_obstacles(P, *S);
-    tc = contact_step_bound(P, x, p, y, Eigen::VectorXd::Zero(y.size()));
+    tc = contact_step_bound(P, x, p, y, Eigen::VectorXd::Zero(y.size()), nullptr, S->contact_cache.get());
   }
   double t = 1.0;
   for (const Collider& c : P.colliders)

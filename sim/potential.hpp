@@ -19,6 +19,7 @@
 // collider and friction terms remain: equilibrium is the minimum of the potential energy (plus
 // the friction of the displacement from the previous load step).
 #include <Eigen/Sparse>
+#include <memory>
 
 #include "sim/contact.hpp"
 #include "sim/dof_map.hpp"
@@ -44,6 +45,9 @@ struct StepState {
   Eigen::VectorXd obstacle_y;        // 3K obstacle positions during this solve (sim/obstacles.hpp)
   Eigen::VectorXd obstacle_y_start;  // ... at the step's start (friction's slip)
   std::vector<PairFriction> pair_friction;  // lagged friction of contact pairs (sim/contact.hpp)
+  // The step's contact broad phase (sim/contact_broad_phase.hpp), shared by its evaluations and
+  // CCDs; null: a fresh broad phase per call (the simulator sets it with self-collision on).
+  std::shared_ptr<ContactCache> contact_cache;
   std::vector<double> theta_ref;  // 3 per triangle: the dihedral angles' branches (sim/hinge_angles.hpp); empty: (-pi, pi]
 };
 
@@ -51,8 +55,9 @@ struct StepState {
 Eigen::MatrixX3d vertex_normals(const Mesh& mesh, const Eigen::VectorXd& x);
 
 // +inf when a vertex is on or inside a collider. shell (optional): E_shell(x) alone.
+// known_shell (optional): E_shell(x) already known (on S's branches): used instead of a pass.
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
-                       double* shell = nullptr);
+                       double* shell = nullptr, const double* known_shell = nullptr);
 
 // Value; gradient (3n, every vertex) written to grad; Hessian over the free vertices added to
 // values (the pattern's value array) when given. shell (optional): E_shell(x) alone.

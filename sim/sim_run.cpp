@@ -300,12 +300,13 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
   if (o.profile)
     std::fprintf(stderr,
                  "profile (ms per step): assembly %.2f wall [element loop CPU: strain %.2f, material %.2f, chain rule "
-                 "%.2f, PSD projection %.2f (%.1f %% of elements), scatter %.2f], solve %.2f, line search %.2f; "
-                 "solver %s\n",
+                 "%.2f, PSD projection %.2f (%.1f %% of elements), scatter %.2f], solve %.2f, line search %.2f, rest of "
+                 "the step (its start, CCD) %.2f; solver %s, %d pattern analyses\n",
                  1e3 * sum.t_assemble / n, 1e3 * sum.t_strain / n, 1e3 * sum.t_material / n, 1e3 * sum.t_chain / n,
                  1e3 * sum.t_project / n, sum.elements ? 100.0 * sum.projected / sum.elements : 0.0,
                  1e3 * sum.t_scatter / n, 1e3 * sum.t_solve / n, 1e3 * sum.t_line_search / n,
-                 numerics::SparseCholesky(set.solver).name());
+                 1e3 * (wall - sum.t_assemble - sum.t_solve - sum.t_line_search) / n,
+                 numerics::SparseCholesky(set.solver).name(), r.analyses);
   if (!r.stretch.empty()) {
     std::fprintf(stderr, "stretch   N/m (clamp)   dPsi/ds at the middle\n");
     for (const StretchRow& row : r.stretch)

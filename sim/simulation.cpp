@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.hpp"
 #include "sim/contact.hpp"
+#include "sim/contact_pattern.hpp"
 #include "sim/garment.hpp"
 #include "sim/hinge_angles.hpp"
 #include "sim/integrators.hpp"
@@ -244,7 +245,8 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   const double diag = rest_diagonal(P.mesh);
   const std::vector<int> prescribed = prescribed_vertices(scene.handles);
   const DofMap D = make_dof_map(P.mesh.num_vertices(), prescribed);
-  const HessianPattern pat = make_hessian_pattern(P.mesh, D);
+  HessianPattern pat = make_hessian_pattern(P.mesh, D);
+  if (P.self_collision) pat.contact = std::make_shared<PaddedPattern>();
   LinearSolver solver(set.solver);
 
   const Eigen::VectorXd x0 = flatten(P.mesh.x);
@@ -349,6 +351,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
       if (R.finite)
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
       R.all_converged = R.all_converged && rec.converged;
+      R.analyses = solver.analyses();
       R.steps.push_back(rec);
       if (csv) {
         write_step_row(csv, rec);

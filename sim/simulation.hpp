@@ -65,6 +65,7 @@ struct SimResult {
   double friction_eps_v = 0;     // friction's sticking velocity used, m/s
   double tol_step = 0;           // the Newton tolerance used, m
   StepNorm tol_norm = StepNorm::Max;  // ... and the norm it bounds
+  int analyses = 0;              // the sparse Cholesky's pattern analyses (numerics/sparse_cholesky.hpp)
 };
 
 // Called after every frame with the frame number and the steps so far.

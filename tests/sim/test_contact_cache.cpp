@@ -1,0 +1,163 @@
+// The step's contact broad phase and the Newton matrix's kept pattern (sim/contact_broad_phase.hpp,
+// sim/contact_pattern.hpp): a ContactCache answers every query covered by its region with
+// exactly the fresh broad phase's pair set (so the same pairs within d_hat, the same CCD bound),
+// rebuilding only when a query leaves the region; a PaddedPattern hands the solver the same
+// matrix on a pattern that changes only when a coupling leaves it, and the solve agrees.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <tuple>
+
+#include "numerics/sparse_cholesky.hpp"
+#include "sim/contact.hpp"
+#include "sim/contact_pattern.hpp"
+#include "sim/rectangle.hpp"
+#include "tests/common/sim_contact_checks.hpp"
+
+using namespace yarnhom;
+using namespace yarnhom::sim;
+
+namespace {
+
+// Two 2 cm sheets 0.6 mm apart (d_hat 1 mm), the upper one shifted, and a capsule under them.
+Problem two_sheets(Eigen::VectorXd& x, Eigen::VectorXd& y) {
+  Mesh m = make_rectangle(0.02, 0.02, 6, 6);
+  Mesh two;
+  const int n = m.num_vertices();
+  two.rest.resize(2 * n, 2);
+  two.x.resize(2 * n, 3);
+  two.tris.resize(2 * m.num_triangles(), 3);
+  for (int v = 0; v < n; ++v) {
+    two.rest.row(v) = m.rest.row(v);
+    two.rest.row(n + v) = m.rest.row(v) + Eigen::RowVector2d(0.05, 0);
+    two.x.row(v) << m.rest(v, 0), m.rest(v, 1), 0.0;
+    two.x.row(n + v) << m.rest(v, 0) + 0.0013, m.rest(v, 1) + 0.0021, 0.0006 + 0.0001 * (v % 3);
+  }
+  two.tris << m.tris, (m.tris.array() + n).matrix();
+  finish_mesh(two);
+  Problem P = make_problem(two, test::contact_test_material(), 0.2);
+  P.self_collision = true;
+  P.self_friction = 0.1;
+  P.dhat = 1e-3;
+  P.kappa = 50;
+  CapsuleObstacle cap;
+  cap.a = Eigen::Vector3d(-0.01, 0.0105, -0.0016);
+  cap.b = Eigen::Vector3d(0.03, 0.0095, -0.0016);
+  cap.radius = 0.001;
+  P.obstacles.capsules = {cap};
+  finish_obstacles(P.obstacles);
+  P.edges = cloth_edges(P.mesh);
+  x = flatten(P.mesh.x);
+  y = obstacle_positions(P.obstacles, 0);
+  return P;
+}
+
+using Key = std::tuple<int, int, int, int, int, double, double>;
+std::vector<Key> keys(const std::vector<ContactPair>& pairs) {
+  std::vector<Key> k;
+  for (const ContactPair& c : pairs) k.emplace_back(int(c.kind), c.slot[0], c.slot[1], c.slot[2], c.slot[3], c.dmin, c.mu);
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// Pairs within their barrier's reach at (x, y).
+int within_dhat(const Problem& P, const std::vector<ContactPair>& pairs, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  int n = 0;
+  for (const ContactPair& c : pairs) n += numerics::contact_distance(c.kind, pair_coordinates(c, x, y)) < c.dmin + P.dhat;
+  return n;
+}
+
+}  // namespace
+
+TEST(ContactCache, AnswersEveryCoveredQueryWithTheFreshBroadPhasesPairs) {
+  Eigen::VectorXd x, y;
+  const Problem P = two_sheets(x, y);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2e-3, 2e-3);  // 2 mm: farther than d_hat
+  Eigen::VectorXd dx(x.size()), dy(y.size());
+  for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = u(rng);
+  for (Eigen::Index i = 0; i < dy.size(); ++i) dy[i] = 0.3 * u(rng);
+  ContactCache cache;
+  // The step's pattern: a move first (the region over it), then static queries and sub-moves in it.
+  const Eigen::VectorXd x1 = x + dx, y1 = y + dy;
+  EXPECT_EQ(keys(cache.candidates(P, x, x1, y, y1)), keys(contact_candidates(P, x, x1, y, y1)));
+  EXPECT_EQ(cache.builds(), 1);
+  int close = 0;
+  for (double a : {0.0, 0.25, 0.5, 1.0}) {
+    const Eigen::VectorXd xa = x + a * dx, ya = y + a * dy;
+    const std::vector<ContactPair> fresh = contact_candidates(P, xa, xa, ya, ya);
+    const std::vector<ContactPair> cached = cache.candidates(P, xa, xa, ya, ya);
+    EXPECT_EQ(keys(cached), keys(fresh)) << "static at " << a;
+    EXPECT_EQ(within_dhat(P, cached, xa, ya), within_dhat(P, fresh, xa, ya));
+    EXPECT_LT(fresh.size(), cache.region_pairs());  // the region holds more than one position needs
+    close += within_dhat(P, fresh, xa, ya);
+  }
+  EXPECT_GT(close, 20);  // layers and capsule within reach: the comparison has pairs to lose
+  const Eigen::VectorXd xa = x + 0.2 * dx, xb = x + 0.7 * dx, ya = y + 0.2 * dy, yb = y + 0.7 * dy;
+  EXPECT_EQ(keys(cache.candidates(P, xa, xb, ya, yb)), keys(contact_candidates(P, xa, xb, ya, yb)));
+  EXPECT_EQ(cache.builds(), 1);  // all of them served by the one hash
+  // A CCD bound and an energy through the cache are the fresh ones (the energy up to the order
+  // of its sum).
+  std::vector<int> free(P.mesh.num_vertices());
+  for (int v = 0; v < int(free.size()); ++v) free[v] = v;
+  EXPECT_EQ(contact_step_bound(P, xa, xb - xa, ya, yb - ya, nullptr, &cache),
+            contact_step_bound(P, xa, xb - xa, ya, yb - ya));
+  const double E = contact_energy(P, free, x, y);
+  ASSERT_GT(E, 0);
+  ASSERT_TRUE(std::isfinite(E));
+  EXPECT_NEAR(contact_energy(P, free, x, y, nullptr, nullptr, &cache), E, 1e-12 * E);
+  EXPECT_EQ(cache.builds(), 1);
+  // A query beyond the region builds a new one, and is answered as freshly.
+  const Eigen::VectorXd x2 = x + 2 * dx;
+  EXPECT_EQ(keys(cache.candidates(P, x2, x2, y1, y1)), keys(contact_candidates(P, x2, x2, y1, y1)));
+  EXPECT_EQ(cache.builds(), 2);
+}
+
+TEST(ContactCache, PaddedPatternKeepsItsPatternWhileTheCouplingsStayWithinIt) {
+  // A 6 x 6 SPD matrix (2 free vertices of 3 unknowns), lower triangle; couplings come and go.
+  auto matrix = [](bool coupled, double c) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < 6; ++i) t.emplace_back(i, i, 4.0 + i);
+    t.emplace_back(1, 0, 0.5);
+    if (coupled) t.emplace_back(4, 1, c);
+    Eigen::SparseMatrix<double> A(6, 6);
+    A.setFromTriplets(t.begin(), t.end());
+    return A;
+  };
+  PaddedPattern kept;
+  int pads = 0;
+  const PaddedPattern::Pad pad = [&] {
+    ++pads;
+    return std::vector<std::pair<int, int>>{{1, 0}};  // vertex 1 with vertex 0: the whole block
+  };
+  const Eigen::SparseMatrix<double> A1 = matrix(false, 0);
+  const Eigen::SparseMatrix<double> M1 = kept.embed(A1, pad);
+  EXPECT_EQ(kept.rebuilds(), 1);
+  EXPECT_EQ(pads, 1);
+  EXPECT_GT(M1.nonZeros(), A1.nonZeros());  // the pad's block is held, as explicit zeros
+  EXPECT_EQ((Eigen::MatrixXd(M1) - Eigen::MatrixXd(A1)).norm(), 0.0);
+  // A coupling inside the kept pattern: same pattern, A's values.
+  const Eigen::SparseMatrix<double> A2 = matrix(true, 0.7);
+  const Eigen::SparseMatrix<double> M2 = kept.embed(A2, pad);
+  EXPECT_EQ(kept.rebuilds(), 1);
+  EXPECT_TRUE(std::equal(M1.innerIndexPtr(), M1.innerIndexPtr() + M1.nonZeros(), M2.innerIndexPtr()));
+  EXPECT_EQ((Eigen::MatrixXd(M2) - Eigen::MatrixXd(A2)).norm(), 0.0);
+  // The solver sees one pattern: one analysis for both, and the solutions of A's own.
+  numerics::SparseCholesky padded, plain;
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(6, 1, 2);
+  ASSERT_TRUE(padded.factorize(M1));
+  ASSERT_TRUE(padded.factorize(M2));
+  EXPECT_EQ(padded.analyses(), 1);
+  ASSERT_TRUE(plain.factorize(A2));
+  EXPECT_LT((padded.solve(b) - plain.solve(b)).norm(), 1e-12 * plain.solve(b).norm());
+  // A coupling outside it (a new block column): rebuilt with the pad again.
+  std::vector<Eigen::Triplet<double>> t = {{0, 0, 4}, {1, 1, 5}, {2, 2, 6}, {3, 3, 7}, {4, 4, 8}, {5, 5, 9}, {2, 1, 0.1}};
+  Eigen::SparseMatrix<double> A3(6, 6);
+  A3.setFromTriplets(t.begin(), t.end());
+  const Eigen::SparseMatrix<double> M3 = kept.embed(A3, pad);
+  EXPECT_EQ(kept.rebuilds(), 2);
+  EXPECT_EQ(pads, 2);
+  EXPECT_EQ((Eigen::MatrixXd(M3) - Eigen::MatrixXd(A3)).norm(), 0.0);
+  EXPECT_EQ(kept.uses(), 3);
+}
