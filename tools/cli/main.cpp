@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <cstdlib>
 #include <unistd.h>
@@ -13,8 +14,13 @@
 
 int main(int argc, char** argv) {
   // OpenBLAS on a CPU it does not recognize runs its slowest kernels: start again asking for
-  // the ones the CPU supports (numerics/blas_threads.hpp). Once: the variable is then set.
-  if (const char* kernels = yarnhom::numerics::blas_kernels_to_request()) {
+  // the ones the CPU supports (numerics/blas_threads.hpp). Once: the variable is then set. Only
+  // the commands that factorize with CHOLMOD (whose supernodes are BLAS calls) pay for the second
+  // start (about 0.1 s); the others never call the BLAS, and the commands that run stages start
+  // the stages as processes of their own, which decide for themselves.
+  const std::string first = argc > 1 ? argv[1] : "";
+  const bool factorizes = first == "produce" || first == "rve" || first == "strip" || first == "sim";
+  if (const char* kernels = factorizes ? yarnhom::numerics::blas_kernels_to_request() : nullptr) {
     setenv("OPENBLAS_CORETYPE", kernels, 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on with the kernels we have
   }
