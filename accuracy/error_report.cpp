@@ -170,7 +170,8 @@ void print_fit_table(const std::vector<Row>& rows, bool baked) {
               "term's data range, RMS gradient error relative to its mean gradient (box coordinates), and for 1D terms "
               "'S', the RMS relative error of the small stresses (|dPsi| at 1-20%% of the term's largest); limits %g%%, "
               "%g%% and %g%% on the validation points%s. 'data G' is the data's own inconsistency (its gradients against "
-              "the slopes of its energies, same unit): where it is above the limit no smooth fit can pass\n",
+              "the slopes of its energies, same unit): where it is above the gradient limit no smooth fit can meet that limit, "
+              "and the gradient passes below 1.25 x data G instead (the data rule; the verdict names it)\n",
               100 * kFitEnergyThreshold, 100 * kFitGradThreshold, 100 * kFitSmallStressThreshold,
               any_val ? "" : " (this model records no validation split: measured on all points)");
   if (baked)

@@ -114,18 +114,33 @@ FitQuality fit_quality(const TermData& data, const std::vector<double>& jet, con
   return q;
 }
 
+std::string fit_rule(const FitQuality& q) {
+  if (!q.ok()) return "-";
+  return q.grad_within_limit() ? "limit" : "data";
+}
+
 std::string fit_verdict(const FitQuality& q) {
-  if (q.ok()) return "ok";
-  std::string out = "FAILS:";
   char buf[200];
+  if (q.ok()) {
+    if (q.grad_within_limit()) return "ok";
+    std::snprintf(buf, sizeof buf, "ok by the data rule: gradient error %.3g%% of the mean gradient, within %g x data G (%.3g%%)",
+                  100 * q.grad_rel, kFitDataRuleFactor, 100 * q.data_inconsistency);
+    return buf;
+  }
+  std::string out = "FAILS:";
   if (!q.energy_ok()) {
     std::snprintf(buf, sizeof buf, " energy RMSE %.3g%% of the data range (limit %g%%)", 100 * q.energy_rel,
                   100 * kFitEnergyThreshold);
     out += buf;
   }
   if (!q.grad_ok()) {
-    std::snprintf(buf, sizeof buf, "%s gradient error %.3g%% of the mean gradient (limit %g%%)", q.energy_ok() ? "" : ";",
-                  100 * q.grad_rel, 100 * kFitGradThreshold);
+    if (q.rough_data())
+      std::snprintf(buf, sizeof buf, "%s gradient error %.3g%% of the mean gradient (limit %g%%, or %g x data G = %.3g%%)",
+                    q.energy_ok() ? "" : ";", 100 * q.grad_rel, 100 * kFitGradThreshold, kFitDataRuleFactor,
+                    100 * kFitDataRuleFactor * q.data_inconsistency);
+    else
+      std::snprintf(buf, sizeof buf, "%s gradient error %.3g%% of the mean gradient (limit %g%%)", q.energy_ok() ? "" : ";",
+                    100 * q.grad_rel, 100 * kFitGradThreshold);
     out += buf;
   }
   if (!q.small_stress_ok()) {

@@ -113,7 +113,8 @@ void print_report(const PipelineOptions& o, const RunFiles& f, const std::vector
   ErrorsSummary sum;
   for (std::string row; std::getline(csv, row);) read_error_row(row, sum);
   std::printf("  %zu terms; validation fit of the networks (energy RMSE / data range, gradient error / mean "
-              "gradient, and for 1D terms the small stresses' relative error; limits %g%%, %g%% and %g%%):\n%s",
+              "gradient, and for 1D terms the small stresses' relative error; limits %g%%, %g%% (or 1.25 x data G where the "
+              "data are rough) and %g%%):\n%s",
               m.networks.size(), 100 * kFitEnergyThreshold, 100 * kFitGradThreshold, 100 * kFitSmallStressThreshold,
               sum.lines.c_str());
   if (sum.measured)

@@ -89,7 +89,7 @@ TrainerOptions trainer_options(const TrainRunOptions& o, const std::set<std::str
 void print_table(const TrainResult& res, double wall) {
   std::printf("%-5s %11s %11s %6s %6s %8s  %9s %9s %7s %7s  %s\n", "term", "train loss", "val loss", "epochs", "polish",
               "time", "E err/rng", "G err/avg", "S err", "data G",
-              "validation fit (limits: energy RMSE < 3% of range, gradient error < 10% of mean, small stresses < 10%)");
+              "validation fit (limits: energy RMSE < 3% of range, gradient error < 10% of mean or, where data G >= 10%, < 1.25 x data G; small stresses < 10%)");
   int failed_fit = 0;
   for (size_t j = 0; j < res.rows.size(); ++j) {
     const ProgressRow& r = res.rows[j];

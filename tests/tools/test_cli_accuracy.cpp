@@ -158,6 +158,39 @@ TEST(CliAccuracy, EndToEndOnStocktiny) {
     EXPECT_EQ(std::isnan(row[14]), empty);
   }
   EXPECT_NE(slurp(d + "/acc/accuracy.md").find("projected width at the middle"), std::string::npos);
+  // The fit report (train-all's table, kept in the stage's log): each term's verdict follows the
+  // rule of core/fit_metrics.hpp from the table's own columns: "ok" where the energy error is
+  // below 3 % and the gradient's below 10 %; "ok by the data rule" where the gradient's is not
+  // but the data G beside it is at least 10 % and more than the gradient's / 1.25; FAILS else.
+  {
+    std::string log_path;
+    for (const auto& e : fs::recursive_directory_iterator(d + "/acc"))
+      if (e.path().filename() == "train-all.log") log_path = e.path().string();
+    ASSERT_FALSE(log_path.empty());
+    std::istringstream log(slurp(log_path));
+    int terms = 0;
+    bool header = false;
+    for (std::string l; std::getline(log, l);) {
+      if (l.rfind("term ", 0) == 0) header = l.find("data G") != std::string::npos && l.find("1.25 x data G") != std::string::npos;
+      std::istringstream ls(l);
+      std::string name, tr, val, ep, pol, time, e, g, sm, dg;
+      if (!(ls >> name >> tr >> val >> ep >> pol >> time >> e >> g >> sm >> dg) || e.back() != '%' || g.back() != '%') continue;
+      std::string verdict;
+      std::getline(ls >> std::ws, verdict);
+      const double E = std::stod(e), G = std::stod(g), DG = dg == "-" ? -1 : std::stod(dg);
+      const bool small_ok = sm == "-" || std::stod(sm) < 10;
+      ++terms;
+      if (E < 3 && G < 10 && small_ok) {
+        EXPECT_EQ(verdict, "ok") << l;
+      } else if (E < 3 && small_ok && DG >= 10 && G < 1.25 * DG) {
+        EXPECT_EQ(verdict.rfind("ok by the data rule", 0), 0u) << l;
+      } else {
+        EXPECT_EQ(verdict.rfind("FAILS", 0), 0u) << l;
+      }
+    }
+    EXPECT_TRUE(header) << "the table's header names the data rule";
+    EXPECT_EQ(terms, 14);
+  }
   // A rerun is all cached; only a baseline that stopped is tried again (its stage failed, so
   // there is nothing to keep).
   auto again = yarnhom::test::run_cli(cmd);
