@@ -132,7 +132,8 @@ def fit_title(g, text, width=80):
     if "fit_ok" not in g.attrs:
         return text, "black"
     if int(g.attrs["fit_ok"]):
-        return text + "  [fit ok]", "black"
+        rule = " by the data rule" if attr_str(g.attrs["verdict"]).startswith("ok by the data rule") else ""
+        return text + "  [fit ok" + rule + "]", "black"
     v = attr_str(g.attrs["verdict"]).replace("FAILS: ", "FAILS the fit limits (validation): ")
     return text + "\n" + "\n".join(textwrap.wrap(v, width)), "#c0392b"
 
