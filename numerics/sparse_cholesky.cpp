@@ -51,9 +51,15 @@ struct SparseCholesky::Impl {
   }
 };
 
-SparseCholesky::SparseCholesky(SolverKind kind) : impl_(std::make_unique<Impl>()) {
+SparseCholesky::SparseCholesky(SolverKind kind, Ordering ordering) : impl_(std::make_unique<Impl>()) {
   impl_->use_cholmod = kind == SolverKind::Cholmod || (kind == SolverKind::Auto && cholmod_available());
 #ifdef YARNHOM_HAVE_CHOLMOD
+  if (ordering != Ordering::Default) {
+    impl_->cholmod.cholmod().nmethods = 1;
+    impl_->cholmod.cholmod().method[0].ordering = ordering == Ordering::Metis ? CHOLMOD_METIS : CHOLMOD_NESDIS;
+  }
+#else
+  (void)ordering;
   impl_->cholmod.cholmod().print = 0;  // a failed factorization is expected, not news
   // and ends at the first supernode that is not positive definite: nothing of a failed factor
   // is used, and a Newton solver's shift loop fails often.
@@ -100,6 +106,13 @@ double SparseCholesky::factor_nonzeros() const {
   if (impl_->use_cholmod) return double(impl_->cholmod.cholmod().lnz);
 #endif
   return double(impl_->ldlt.matrixL().nestedExpression().nonZeros());
+}
+
+double SparseCholesky::factor_flops() const {
+#ifdef YARNHOM_HAVE_CHOLMOD
+  if (impl_->use_cholmod && impl_->analyses > 0) return impl_->cholmod.cholmod().fl;
+#endif
+  return 0.0;
 }
 
 const char* SparseCholesky::name() const { return impl_->use_cholmod ? "cholmod" : "ldlt"; }

@@ -14,12 +14,18 @@
 namespace yarnhom::numerics {
 
 enum class SolverKind { Auto, Ldlt, Cholmod };
+// CHOLMOD's fill-reducing ordering. Default: CHOLMOD's own choice (AMD, METIS only when AMD's
+// factor is very dense; what every solve of the project uses). Metis, NestedDissection: those
+// orderings alone (CHOLMOD_METIS, CHOLMOD_NESDIS), for benchmarks: on the 16k-triangle drape's
+// matrix 25-28 % fewer flops than AMD, no faster measured, 4x the analysis time
+// (docs/benchmarks.md, "Drape at 16k triangles").
+enum class Ordering { Default, Metis, NestedDissection };
 SolverKind parse_solver_kind(const std::string& name);  // "auto", "ldlt", "cholmod"
 bool cholmod_available();
 
 class SparseCholesky {
  public:
-  explicit SparseCholesky(SolverKind kind = SolverKind::Auto);
+  explicit SparseCholesky(SolverKind kind = SolverKind::Auto, Ordering ordering = Ordering::Default);
   ~SparseCholesky();
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
@@ -32,6 +38,9 @@ class SparseCholesky {
   const char* name() const;
   // Nonzeros of the last factor (L, or L and D), for benchmarks; 0 before the first factorization.
   double factor_nonzeros() const;
+  // Floating-point operations of one numeric factorization, as CHOLMOD's analysis counts them
+  // (cholmod_common's fl); 0 before the first factorization and with LDL^T.
+  double factor_flops() const;
   // Symbolic analyses done so far.
   int analyses() const;
 

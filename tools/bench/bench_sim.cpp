@@ -186,7 +186,9 @@ BENCHMARK(BM_Assembly)
     ->Args({1000, 1})->Args({4000, 1})->Args({16000, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// One numeric factorization of the Newton matrix (mass term added so that it is definite).
+// One numeric factorization of the Newton matrix (mass term added so that it is definite);
+// range(1): 0 LDL^T, 1 CHOLMOD; range(2): CHOLMOD's ordering, 0 its default (AMD here), 1 METIS,
+// 2 nested dissection (numerics/sparse_cholesky.hpp).
 void BM_Factorize(benchmark::State& state) {
   Sheet S(int(state.range(0)));
   const Mesh& m = S.m;
@@ -196,16 +198,21 @@ void BM_Factorize(benchmark::State& state) {
   shell_energy_derivatives(m, S.rest, S.psi, S.x, g, &pat, H.valuePtr());
   const double mass = 0.3 * 0.25 / m.num_vertices() * 900;  // m / h^2 at h = 1/30
   for (int f = 0; f < S.D.num_free(); ++f) add_vertex_hessian(pat, f, mass * Eigen::Matrix3d::Identity(), H.valuePtr());
-  LinearSolver solver(state.range(1) ? SolverKind::Cholmod : SolverKind::Ldlt);
+  const Ordering ordering = state.range(2) == 1 ? Ordering::Metis : state.range(2) == 2 ? Ordering::NestedDissection
+                                                                                          : Ordering::Default;
+  LinearSolver solver(state.range(1) ? SolverKind::Cholmod : SolverKind::Ldlt, ordering);
   solver.factorize(H);  // analysis outside the timing
   for (auto _ : state) benchmark::DoNotOptimize(solver.factorize(H));
   state.counters["unknowns"] = H.rows();
   state.counters["nnz_L"] = solver.factor_nonzeros();
-  state.SetLabel(std::string(solver.name()) + ", " + blas_description());
+  state.counters["GFlop"] = solver.factor_flops() * 1e-9;
+  const char* names[] = {"", ", METIS", ", nested dissection"};
+  state.SetLabel(std::string(solver.name()) + names[state.range(2)] + ", " + blas_description());
 }
 BENCHMARK(BM_Factorize)
-    ->Args({1000, 0})->Args({4000, 0})->Args({16000, 0})
-    ->Args({1000, 1})->Args({4000, 1})->Args({16000, 1})
+    ->Args({1000, 0, 0})->Args({4000, 0, 0})->Args({16000, 0, 0})
+    ->Args({1000, 1, 0})->Args({4000, 1, 0})->Args({16000, 1, 0})
+    ->Args({16000, 1, 1})->Args({16000, 1, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
