@@ -76,10 +76,16 @@ struct Chart {
       const int m = slipped_above(k, j);
       const double sig = s == 'K' ? 1 : -1, sig_next = at(k + 1 + m, j) == 'K' ? 1 : -1;
       zl = (m > 0 && p.held_depth > 0 ? p.held_depth : c) * sig;
-      zh = -(p.head_depth > 0 ? p.head_depth : c) * sig_next;
+      // The catching stitch held itself (its legs at held_depth): with held_head_gap the head
+      // lies that far from those legs, on the side away from them.
+      if (p.held_head_gap > 0 && p.held_depth > 0 && slipped_above(k + 1 + m, j) > 0)
+        zh = sig_next * (p.held_depth - p.held_head_gap);
+      else
+        zh = -(p.head_depth > 0 ? p.head_depth : c) * sig_next;
       const double u = 0.5 * (1 + std::cos(th));
-      q[0] = xj + w / (2 * M_PI) * (th + p.bulb * std::sin(2 * th));
-      q[1] = yk + b * std::cos(th) + p.waist * std::cos(3 * th) + m * h * u * u;
+      const double a = m > 0 && p.held_bulb > 0 ? p.held_bulb : p.bulb;
+      q[0] = xj + w / (2 * M_PI) * (th + a * std::sin(2 * th));
+      q[1] = yk + b * std::cos(th) + p.waist * std::cos(3 * th) + p.held_height * m * h * u * u;
     }
     // z = A + B cos th + C cos 2th through the head (th = 0), the legs (+-pi/2) and the sinker
     // (+-pi), level at both ends.

@@ -123,8 +123,9 @@ Pattern paper_slip_stitch_honeycomb() {
 // face (stored at +2.6 r, legs at -4.75 r: 29 r of travel along z per course where the published
 // loop spends 12, its head at -3.7 r on its legs' side) and the relaxation drags it 4.6 r back,
 // stretching the yarn 4.2 % and bending the garter loops' straight legs. Heads on the legs' side
-// (with lower, narrower held loops and lifted floats) reach 0.93 J/m^2 but turn in 0.38 r, or the
-// geometry intersects: this loop shape cannot hold the published long loops (docs/rve.md).
+// (held_head_gap 2 r, held_height 0.65, held_bulb 0.5, float_lift 1.5 r, loop_height 3.4 r,
+// sinker_gap 2.5 r) reach 0.93 J/m^2 but turn in 0.38 r, the tile relaxing 14 % each way; rounder
+// held heads intersect: this loop shape cannot hold the published long loops (docs/rve.md).
 Pattern paper_cartridge_belt_rib() {
   const double r = 1e-3;
   KnitParams p;

@@ -77,6 +77,13 @@ struct KnitParams {
   double head_depth = 0;            // m: the heads at +-head_depth (0: depth)
   double held_depth = 0;            // m: the legs of a loop held through slipping courses at
                                     // +-held_depth (0: depth), in front of the floats across it
+  double held_height = 1;           // a held loop's head rises this fraction of the courses it is
+                                    // held through above an ordinary loop's
+  double held_bulb = 0;             // a of the held loops (0: bulb)
+  double held_head_gap = 0;         // m: where the stitch that catches a loop is held itself (legs
+                                    // at held_depth), the head lies this far from those legs on the
+                                    // side away from them (0: at head_depth, as for any loop: on the
+                                    // far face when head_depth < held_depth)
   double bulb = 1.0;                // a: how far the head overhangs the legs
   double waist = 0;                 // m, as in StockinetteParams
   double float_depth = 0;           // m: a float's distance from the mid-plane (its face: above)

@@ -142,3 +142,29 @@ TEST(GenerateKnit, RefusesBadCharts) {
   flat.depth = 0;
   EXPECT_THROW(generate_knit(flat), std::invalid_argument);
 }
+
+// The cartridge belt rib's held loops are caught by held loops (yarn/rod/generate.cpp): by
+// default the head goes to the far face (head_depth on the other side of the catching legs at
+// depth); with held_head_gap it stays on its legs' side, that far in front of the catching
+// stitch's held legs; held_height lowers it.
+TEST(GenerateKnit, HeldHeadGapKeepsTheHeadOfALoopCaughtByAHeldLoopOnItsLegsSide) {
+  const double r = 1e-3;
+  KnitParams p = params({"PSPP", "KKKS"});
+  p.held_depth = 4.0 * r;
+  p.head_depth = 2.5 * r;
+  // Course 0 purls wale 3 and course 1 slips it: that loop (legs behind, at -held_depth) is held
+  // and caught by course 0's next purl in wale 3, held itself. Its head is course 0's highest
+  // point.
+  const auto head = [](const Pattern& pat) {
+    const auto q = yarn_points(pat, 0);
+    return *std::max_element(q.begin(), q.end(), [](const auto& a, const auto& b) { return a[1] < b[1]; });
+  };
+  const Eigen::Vector3d far = head(generate_knit(p));
+  EXPECT_NEAR(far[2], 2.5, 0.3);  // the far face
+  p.held_head_gap = 2.0 * r;
+  const Eigen::Vector3d near = head(generate_knit(p));
+  EXPECT_NEAR(near[2], -2.0, 0.3);  // -(held_depth - held_head_gap): the legs' side
+  p.held_height = 0.5;
+  const Eigen::Vector3d low = head(generate_knit(p));
+  EXPECT_NEAR(near[1] - low[1], 0.5 * 3.1, 0.3);  // half a course (3.1 r) lower
+}
