@@ -295,10 +295,13 @@ void RveProblem::prepare(const Strain& s, const RveState& st, Assembly& A) const
   A.base.resize(n);
   A.nxt.resize(n);
   A.prv.resize(n);
+  // A neighbour inside the tile is a base point already (node() gives the same bits again);
+  // only those across the tile's border are mapped anew.
+  for (int v = 0; v < n; ++v) A.base[v] = node(s, st, v, Eigen::Vector2i::Zero(), ds);
   for (int v = 0; v < n; ++v) {
-    A.base[v] = node(s, st, v, Eigen::Vector2i::Zero(), ds);
-    A.nxt[v] = node(s, st, topo_.next[v], topo_.offset[v], ds);
-    A.prv[v] = node(s, st, topo_.prev[v], -topo_.offset[topo_.prev[v]], ds);
+    const Eigen::Vector2i on = topo_.offset[v], op = -topo_.offset[topo_.prev[v]];
+    A.nxt[v] = on.isZero() ? A.base[topo_.next[v]] : node(s, st, topo_.next[v], on, ds);
+    A.prv[v] = op.isZero() ? A.base[topo_.prev[v]] : node(s, st, topo_.prev[v], op, ds);
   }
   auto image = [&](int v, Eigen::Vector2i o) -> const Node& {
     if (o.isZero()) return A.base[v];

@@ -161,6 +161,18 @@ class RveProblem {
   };
   std::vector<Pair> contact_pairs(const Strain& s, const RveState& st, double margin) const;
   bool excluded(int a, int b, Eigen::Vector2i o) const;
+  // An in-plane box that holds every image of the tile at (s, st), segments' far ends included,
+  // from the map alone (no shell map per vertex; rve_pairs.cpp): the broad phases skip images
+  // out of reach before mapping them.
+  struct ImageBound {
+    Eigen::Vector2d lo, hi;  // the base tile's reference points mapped by F(s) F0
+    Eigen::Matrix2d step;    // tile offset -> in-plane translation of the image
+    double pad = 0;          // max |h| + |u| over the vertices, plus a round-off margin
+    void image_box(Eigen::Vector2i o, Eigen::Vector2d& l, Eigen::Vector2d& h) const;  // padded
+    // Whether the image at o (its box inflated by reach) may meet the box [lo3, hi3] in-plane.
+    bool may_reach(Eigen::Vector2i o, const Eigen::Vector3d& lo3, const Eigen::Vector3d& hi3, double reach) const;
+  };
+  ImageBound image_bound(const Strain& s, const RveState& st) const;
 
   // Zero modes handled (for reports and tests). The pinned vertex's in-plane components are
   // pinned; its normal component is set from the others' by apply_step, so that the yarns'

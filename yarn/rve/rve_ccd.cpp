@@ -84,12 +84,25 @@ int for_each_pair(const RveProblem& rve, const Strain& s0, const RveState& st0, 
   // images within reach go into one list, checked against one grid of the base tile.
   std::vector<SegmentMove> all = base;
   std::vector<Eigen::Vector2i> offsets = {Eigen::Vector2i::Zero()};
+  // An image whose in-plane box in both configurations (RveProblem::image_bound, from the map
+  // alone) misses the base tile's swept box by more than reach is skipped unmapped: the exact
+  // test would skip it too, so the pairs and the rings are the same.
+  const RveProblem::ImageBound b0 = rve.image_bound(s0, st0), b1 = rve.image_bound(s1, st1);
+  auto may_reach = [&](Eigen::Vector2i o) {
+    Eigen::Vector2d l0, h0, l1, h1;
+    b0.image_box(o, l0, h0);
+    b1.image_box(o, l1, h1);
+    const Eigen::Vector2d l = l0.cwiseMin(l1), h = h0.cwiseMax(h1);
+    return !(((l.array() - reach) > base_box.hi.head<2>().array()).any() ||
+             ((h.array() + reach) < base_box.lo.head<2>().array()).any());
+  };
   for (int k = 1; k <= 64; ++k) {  // 64: a tile far smaller than its yarns
     bool any = false;
     for (int ox = -k; ox <= k; ++ox)
       for (int oy = -k; oy <= k; ++oy) {
         if (std::max(std::abs(ox), std::abs(oy)) != k) continue;
         const Eigen::Vector2i o(ox, oy);
+        if (!may_reach(o)) continue;
         Box img;
         std::vector<SegmentMove> moves = image_moves(rve, s0, st0, s1, st1, o, img);
         if (!img.near(base_box, reach)) continue;
