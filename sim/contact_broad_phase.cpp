@@ -59,9 +59,11 @@ bool shares(const Problem& P, const Eigen::Vector3i& t, int v) {
 }
 
 // Calls emit(group, i, j) for every pair of overlapping boxes (less those sharing a vertex), in
-// the fresh broad phase's order.
+// the fresh broad phase's order, or (any_order) with the obstacles' few primitives in the hash
+// and the cloth's many querying it: the same pairs, without hashing every cloth triangle and
+// edge again for a handful of capsules.
 template <class Fn>
-void box_candidates(const Problem& P, const PrimBoxes& B, Fn&& emit) {
+void box_candidates(const Problem& P, const PrimBoxes& B, Fn&& emit, bool any_order = false) {
   const Mesh& m = P.mesh;
   if (P.self_collision) {
     for (const auto& [t, v] : numerics::box_pairs(B.t, B.v))
@@ -75,6 +77,11 @@ void box_candidates(const Problem& P, const PrimBoxes& B, Fn&& emit) {
   }
   if (P.obstacles.empty()) return;
   for (const auto& [t, v] : numerics::box_pairs(B.ot, B.v)) emit(ObstacleTriVertex, t, v);
+  if (any_order) {
+    for (const auto& [k, t] : numerics::box_pairs(B.op, B.t)) emit(TriObstaclePoint, t, k);
+    for (const auto& [f, e] : numerics::box_pairs(B.oe, B.e)) emit(EdgeObstacleEdge, e, f);
+    return;
+  }
   for (const auto& [t, k] : numerics::box_pairs(B.t, B.op)) emit(TriObstaclePoint, t, k);
   for (const auto& [e, f] : numerics::box_pairs(B.e, B.oe)) emit(EdgeObstacleEdge, e, f);
 }
@@ -132,8 +139,9 @@ std::vector<ContactPair> contact_candidates_within(const Problem& P, const Eigen
   if (!has_contact(P)) return {};
   std::vector<ContactPair> out;
   const std::vector<double> radius = point_radius(P.obstacles);
-  box_candidates(P, prim_boxes(P, x, x, y, y, 0.5 * reach),
-                 [&](unsigned char g, int i, int j) { out.push_back(make_pair(P, radius, g, i, j)); });
+  box_candidates(
+      P, prim_boxes(P, x, x, y, y, 0.5 * reach),
+      [&](unsigned char g, int i, int j) { out.push_back(make_pair(P, radius, g, i, j)); }, true);
   return out;
 }
 
@@ -152,8 +160,9 @@ std::vector<ContactPair> ContactCache::candidates(const Problem& P, const Eigen:
     ylo_ = y0.cwiseMin(y1).array() - margin;
     yhi_ = y0.cwiseMax(y1).array() + margin;
     entries_.clear();
-    box_candidates(P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
-                   [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j}); });
+    box_candidates(
+        P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
+        [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j}); }, true);
     valid_ = true;
     ++builds_;
   }
