@@ -65,11 +65,12 @@ TEST(FitMetrics, GradientInBoxCoordinates) {
 
 // The data's own inconsistency: zero for a quadratic on a grid (the trapezoid rule is exact
 // for it), a known value when one node's gradient is off, -1 for scattered points.
-TEST(FitMetrics, DataInconsistencyOfAGrid) {
+// A quadratic sampled on a 5 x 5 grid over [-1, 1] x [-2, 2] (half-widths 1, 2), and its exact jet.
+static TermData quadratic_grid(std::vector<double>& jet) {
   TermData d;
   d.term = term_by_name("01");
   d.lower = {-1, -2};
-  d.upper = {1, 2};  // half-widths 1, 2
+  d.upper = {1, 2};
   const int m = 5;
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j) {
@@ -79,12 +80,18 @@ TEST(FitMetrics, DataInconsistencyOfAGrid) {
       d.gradient.insert(d.gradient.end(), {2 * x + 0.5 * y + 1, 0.5 * x - 0.5 * y});
     }
   d.n = m * m;
-  std::vector<double> jet(3 * d.n);
+  jet.assign(3 * d.n, 0.0);
   for (int p = 0; p < d.n; ++p) {
     jet[p] = d.energy[p];
     jet[d.n + p] = d.gradient[2 * p];
     jet[2 * d.n + p] = d.gradient[2 * p + 1];
   }
+  return d;
+}
+
+TEST(FitMetrics, DataInconsistencyOfAGrid) {
+  std::vector<double> jet;
+  const TermData d = quadratic_grid(jet);
   const FitQuality q = fit_quality(d, jet);
   EXPECT_NEAR(q.data_inconsistency, 0.0, 1e-12);
   EXPECT_DOUBLE_EQ(q.grad_rel, 0.0);
@@ -159,25 +166,8 @@ TEST(FitMetrics, SmallStressErrorIsFor1DTermsOnly) {
 // rule's limit named); a fit halfway to the bad node (0.89 x data G) passes by the data rule; a
 // fit within 10 % passes by the limit whatever data G.
 TEST(FitMetrics, RoughDataPassesByTheDataRuleWithinAQuarterAboveDataG) {
-  TermData d;
-  d.term = term_by_name("01");
-  d.lower = {-1, -2};
-  d.upper = {1, 2};
-  const int m = 5;
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      const double x = -1 + 0.5 * i, y = -2 + 1.0 * j;
-      d.strain.insert(d.strain.end(), {x, y});
-      d.energy.push_back(x * x + 0.5 * x * y - 0.25 * y * y + x);
-      d.gradient.insert(d.gradient.end(), {2 * x + 0.5 * y + 1, 0.5 * x - 0.5 * y});
-    }
-  d.n = m * m;
-  std::vector<double> exact(3 * d.n);
-  for (int p = 0; p < d.n; ++p) {
-    exact[p] = d.energy[p];
-    exact[d.n + p] = d.gradient[2 * p];
-    exact[2 * d.n + p] = d.gradient[2 * p + 1];
-  }
+  std::vector<double> exact;
+  TermData d = quadratic_grid(exact);
   d.gradient[2 * 12] += 5.0;
   const FitQuality q_exact = fit_quality(d, exact);
   ASSERT_TRUE(q_exact.rough_data()) << q_exact.data_inconsistency;

@@ -22,32 +22,7 @@ namespace {
 
 // Two 2 cm sheets 0.6 mm apart (d_hat 1 mm), the upper one shifted, and a capsule under them.
 Problem two_sheets(Eigen::VectorXd& x, Eigen::VectorXd& y) {
-  Mesh m = make_rectangle(0.02, 0.02, 6, 6);
-  Mesh two;
-  const int n = m.num_vertices();
-  two.rest.resize(2 * n, 2);
-  two.x.resize(2 * n, 3);
-  two.tris.resize(2 * m.num_triangles(), 3);
-  for (int v = 0; v < n; ++v) {
-    two.rest.row(v) = m.rest.row(v);
-    two.rest.row(n + v) = m.rest.row(v) + Eigen::RowVector2d(0.05, 0);
-    two.x.row(v) << m.rest(v, 0), m.rest(v, 1), 0.0;
-    two.x.row(n + v) << m.rest(v, 0) + 0.0013, m.rest(v, 1) + 0.0021, 0.0006 + 0.0001 * (v % 3);
-  }
-  two.tris << m.tris, (m.tris.array() + n).matrix();
-  finish_mesh(two);
-  Problem P = make_problem(two, test::contact_test_material(), 0.2);
-  P.self_collision = true;
-  P.self_friction = 0.1;
-  P.dhat = 1e-3;
-  P.kappa = 50;
-  CapsuleObstacle cap;
-  cap.a = Eigen::Vector3d(-0.01, 0.0105, -0.0016);
-  cap.b = Eigen::Vector3d(0.03, 0.0095, -0.0016);
-  cap.radius = 0.001;
-  P.obstacles.capsules = {cap};
-  finish_obstacles(P.obstacles);
-  P.edges = cloth_edges(P.mesh);
+  Problem P = test::two_sheets_over_a_capsule(6, 0.1, [](int v) { return Eigen::Vector3d(0.0013, 0.0021, 0.0006 + 0.0001 * (v % 3)); });
   x = flatten(P.mesh.x);
   y = obstacle_positions(P.obstacles, 0);
   return P;
