@@ -83,9 +83,11 @@ std::vector<T> as(const std::vector<float>& v) {
   return std::vector<T>(v.begin(), v.end());
 }
 
-// One full-batch loss and gradient of the polish (cpu::mlp_loss_grad at jet order 1, L_Z + w_F L_F
-// with per-point weights). Argument: d (1: double, 2: float, as the default recipe).
-template <class T>
+// One full-batch loss and gradient of the polish (L_Z + w_F L_F with per-point weights), on
+// cpu::mlp_loss_grad at jet order 1 or (fused) on the polish's fused kernel
+// (cpu::fused_data_loss_grad), which the default recipe's polish runs. Argument: d (1: double,
+// 2: float, as the default recipe).
+template <class T, bool fused>
 void loss_eval(benchmark::State& st, int d) {
   const NetworkJob job = make_problem(d);
   const std::vector<T> x = as<T>(job.x_train), y = as<T>(job.y_train), g = as<T>(job.g_train),
@@ -94,8 +96,10 @@ void loss_eval(benchmark::State& st, int d) {
   const cpu::LossBatch<T> b{job.n_train, x.data(), y.data(), g.data(), 0, nullptr, nullptr, wt.data()};
   const cpu::LossOptions o = polish_loss();
   cpu::LossWorkspace<T> ws;
+  cpu::FusedWorkspace<T> fws;
   for (auto _ : st) {
-    const cpu::LossValues v = cpu::mlp_loss_grad<T>(job.desc, p.data(), b, o, grad.data(), ws, 1);
+    const cpu::LossValues v = fused ? cpu::fused_data_loss_grad<T>(job.desc, p.data(), b, o.w, grad.data(), fws)
+                                    : cpu::mlp_loss_grad<T>(job.desc, p.data(), b, o, grad.data(), ws, 1);
     benchmark::DoNotOptimize(v.total);
     benchmark::DoNotOptimize(grad.data());
   }
@@ -103,33 +107,13 @@ void loss_eval(benchmark::State& st, int d) {
   st.SetLabel(d == 1 ? "1D Net-3 double, 91 points" : "2D Net-2 float, 865 points");
 }
 void BM_PolishLoss(benchmark::State& st) {
-  if (st.range(0) == 1) loss_eval<double>(st, 1);
-  else loss_eval<float>(st, 2);
+  if (st.range(0) == 1) loss_eval<double, false>(st, 1);
+  else loss_eval<float, false>(st, 2);
 }
 BENCHMARK(BM_PolishLoss)->Arg(1)->Arg(2);
-
-// The same evaluation on the polish's fused kernel (cpu::fused_data_loss_grad), which the
-// default recipe's polish runs.
-template <class T>
-void fused_eval(benchmark::State& st, int d) {
-  const NetworkJob job = make_problem(d);
-  const std::vector<T> x = as<T>(job.x_train), y = as<T>(job.y_train), g = as<T>(job.g_train),
-                       p = as<T>(job.init_params);
-  std::vector<T> wt(job.n_train, T(1)), grad(p.size());
-  const cpu::LossBatch<T> b{job.n_train, x.data(), y.data(), g.data(), 0, nullptr, nullptr, wt.data()};
-  const cpu::LossOptions o = polish_loss();
-  cpu::FusedWorkspace<T> ws;
-  for (auto _ : st) {
-    const cpu::LossValues v = cpu::fused_data_loss_grad<T>(job.desc, p.data(), b, o.w, grad.data(), ws);
-    benchmark::DoNotOptimize(v.total);
-    benchmark::DoNotOptimize(grad.data());
-  }
-  st.counters["points/s"] = benchmark::Counter(double(job.n_train) * st.iterations(), benchmark::Counter::kIsRate);
-  st.SetLabel(d == 1 ? "1D Net-3 double, 91 points" : "2D Net-2 float, 865 points");
-}
 void BM_PolishLossFused(benchmark::State& st) {
-  if (st.range(0) == 1) fused_eval<double>(st, 1);
-  else fused_eval<float>(st, 2);
+  if (st.range(0) == 1) loss_eval<double, true>(st, 1);
+  else loss_eval<float, true>(st, 2);
 }
 BENCHMARK(BM_PolishLossFused)->Arg(1)->Arg(2);
 
