@@ -58,12 +58,12 @@ SparseCholesky::SparseCholesky(SolverKind kind, Ordering ordering) : impl_(std::
     impl_->cholmod.cholmod().nmethods = 1;
     impl_->cholmod.cholmod().method[0].ordering = ordering == Ordering::Metis ? CHOLMOD_METIS : CHOLMOD_NESDIS;
   }
-#else
-  (void)ordering;
   impl_->cholmod.cholmod().print = 0;  // a failed factorization is expected, not news
   // and ends at the first supernode that is not positive definite: nothing of a failed factor
   // is used, and a Newton solver's shift loop fails often.
   impl_->cholmod.cholmod().quick_return_if_not_posdef = 1;
+#else
+  (void)ordering;
 #endif
 }
 
