@@ -30,6 +30,15 @@ double contact_barrier_energy(ContactKind kind, const Vec12& q, const BarrierPar
   return p.kappa * b;
 }
 
+double contact_speed(ContactKind kind, const Vec12& dq) {
+  const Eigen::Vector3d m = 0.25 * (dq.segment<3>(0) + dq.segment<3>(3) + dq.segment<3>(6) + dq.segment<3>(9));
+  if (kind == ContactKind::PointTriangle)
+    return (dq.segment<3>(0) - m).norm() +
+           std::max({(dq.segment<3>(3) - m).norm(), (dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm()});
+  return std::max((dq.segment<3>(0) - m).norm(), (dq.segment<3>(3) - m).norm()) +
+         std::max((dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm());
+}
+
 CcdResult contact_ccd(ContactKind kind, const Vec12& q0, const Vec12& q1, double dmin, double eta,
                       const CcdOptions& opt) {
   CcdResult res;
@@ -42,15 +51,7 @@ CcdResult contact_ccd(ContactKind kind, const Vec12& q0, const Vec12& q1, double
     res.t = 0;
     return res;
   }
-  const Vec12 dq = q1 - q0;
-  const Eigen::Vector3d m = 0.25 * (dq.segment<3>(0) + dq.segment<3>(3) + dq.segment<3>(6) + dq.segment<3>(9));
-  double l;
-  if (kind == ContactKind::PointTriangle)
-    l = (dq.segment<3>(0) - m).norm() +
-        std::max({(dq.segment<3>(3) - m).norm(), (dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm()});
-  else
-    l = std::max((dq.segment<3>(0) - m).norm(), (dq.segment<3>(3) - m).norm()) +
-        std::max((dq.segment<3>(6) - m).norm(), (dq.segment<3>(9) - m).norm());
+  const double l = contact_speed(kind, q1 - q0);
   advance(dist, dmin + eta * (res.d0 - dmin), l, opt, res);  // never closer than that on [0, t]
   return res;
 }

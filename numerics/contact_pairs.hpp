@@ -35,6 +35,10 @@ namespace yarnhom::numerics {
 double contact_barrier_energy(ContactKind kind, const Vec12& q, const BarrierParams& p, Vec12* g = nullptr,
                               Mat12* H = nullptr);
 
+// The bound l above for a pair whose four points move by dq (q1 - q0): on any straight move of
+// the pair by dq, the closest distance changes by at most l (from wherever it starts).
+double contact_speed(ContactKind kind, const Vec12& dq);
+
 // Safe fraction of the move q0 -> q1 (see above). t = 0 when d(0) <= d_min.
 CcdResult contact_ccd(ContactKind kind, const Vec12& q0, const Vec12& q1, double dmin, double eta = 0.1,
                       const CcdOptions& opt = {});

@@ -94,7 +94,8 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
                       const Eigen::VectorXd& y, Eigen::VectorXd* grad, std::vector<Eigen::Triplet<double>>* trip,
                       ContactCache* cache) {
   if (!has_contact(P)) return 0.0;
-  const std::vector<ContactPair> pairs = contact_candidates(P, x, x, y, y, cache);
+  // The cache leaves out pairs shown beyond d_hat: their terms are zero (skipped below).
+  const std::vector<ContactPair> pairs = cache ? cache->near(P, x, y) : contact_candidates(P, x, x, y, y);
   double E = 0;
   for (const ContactPair& c : pairs) {
     const Vec12 q = pair_coordinates(c, x, y);
@@ -118,10 +119,11 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
   if (!(dx.cwiseAbs().maxCoeff() > 0) && !(dy.size() && dy.cwiseAbs().maxCoeff() > 0)) return 1.0;  // no move
   const Eigen::VectorXd x1 = x0 + dx, y1 = y0 + dy;
   double t = 1.0;
-  for (const ContactPair& c : contact_candidates(P, x0, x1, y0, y1, cache)) {
+  // The cache leaves out pairs shown to give t = 1 below.
+  for (const ContactPair& c : cache ? cache->ccd_candidates(P, x0, x1, y0, y1) : contact_candidates(P, x0, x1, y0, y1)) {
     const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
     if (q0 == q1) continue;
-    numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, 0.1);
+    numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, kContactEta);
     // A moving obstacle never comes closer than dmin + dhat / 10 to the cloth on its own: with
     // the cloth pinched against something fixed, the bound above would let it close 90 % of the
     // gap stage after stage, down to rounding (and through). Within that, it may only move
@@ -129,9 +131,9 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
     bool moving = false;
     for (int k = 0; k < 4; ++k) moving = moving || (c.slot[k] < 0 && q0.segment<3>(3 * k) != q1.segment<3>(3 * k));
     if (moving && r.t > 0) {
-      const double floor = c.dmin + 0.1 * P.dhat;
+      const double floor = c.dmin + kObstacleFloor * P.dhat;
       if (r.d0 > floor) {
-        r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, 0.1).t);
+        r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, kContactEta).t);
       } else {  // (less rounding: a vertex carried along keeps its distance)
         for (double s : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
           if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat) {
@@ -207,7 +209,8 @@ std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::
                                                  ContactCache* cache) {
   std::vector<PairFriction> out;
   if (!has_contact(P)) return out;
-  for (const ContactPair& c : contact_candidates(P, x_at, x_at, y_at, y_at, cache)) {
+  // The cache leaves out pairs shown beyond their activation distance (skipped below).
+  for (const ContactPair& c : cache ? cache->near(P, x_at, y_at) : contact_candidates(P, x_at, x_at, y_at, y_at)) {
     if (!(c.mu > 0)) continue;
     const Vec12 q = pair_coordinates(c, x_at, y_at);
     const double d = numerics::contact_distance(c.kind, q);

@@ -29,6 +29,29 @@ std::vector<double> point_radius(const ObstacleSet& O) {
 
 Eigen::Vector3i tri(const Mesh& m, int t) { return m.tris.row(t).transpose(); }
 
+// One primitive's box over the move (x0 -> x1, y0 -> y1), inflated by half (obstacle points and
+// edges also by their radius): the cloth's vertex v, triangle t, edge e, the obstacles' triangle,
+// edge and point k.
+Box3 vertex_box(int v, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, double half) {
+  return move_box(std::array<int, 1>{v}, 1, x0, x1, half);
+}
+Box3 triangle_box(const Problem& P, int t, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, double half) {
+  return move_box(tri(P.mesh, t), 3, x0, x1, half);
+}
+Box3 edge_box(const Problem& P, int e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, double half) {
+  return move_box(P.edges[e], 2, x0, x1, half);
+}
+Box3 obstacle_triangle_box(const ObstacleSet& O, int t, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, double half) {
+  return move_box(O.tris[t], 3, y0, y1, half);
+}
+Box3 obstacle_edge_box(const ObstacleSet& O, int e, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, double half) {
+  return move_box(O.edges[e], 2, y0, y1, half + O.edge_radius[e]);
+}
+Box3 obstacle_point_box(const std::vector<double>& radius, int k, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1,
+                        double half) {
+  return move_box(std::array<int, 1>{k}, 1, y0, y1, half + radius[k]);
+}
+
 PrimBoxes prim_boxes(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, const Eigen::VectorXd& y0,
                      const Eigen::VectorXd& y1, double half) {
   const Mesh& m = P.mesh;
@@ -38,18 +61,18 @@ PrimBoxes prim_boxes(const Problem& P, const Eigen::VectorXd& x0, const Eigen::V
   B.v.resize(n);
   B.t.resize(nt);
   B.e.resize(ne);
-  for (int v = 0; v < n; ++v) B.v[v] = move_box(std::array<int, 1>{v}, 1, x0, x1, half);
-  for (int t = 0; t < nt; ++t) B.t[t] = move_box(tri(m, t), 3, x0, x1, half);
-  for (int e = 0; e < ne; ++e) B.e[e] = move_box(P.edges[e], 2, x0, x1, half);
+  for (int v = 0; v < n; ++v) B.v[v] = vertex_box(v, x0, x1, half);
+  for (int t = 0; t < nt; ++t) B.t[t] = triangle_box(P, t, x0, x1, half);
+  for (int e = 0; e < ne; ++e) B.e[e] = edge_box(P, e, x0, x1, half);
   if (O.empty()) return B;
   // Obstacle primitives, inflated by their radius plus half of dhat.
   const std::vector<double> radius = point_radius(O);
   B.ot.resize(O.tris.size());
   B.oe.resize(O.edges.size());
   B.op.resize(O.num_points);
-  for (size_t t = 0; t < O.tris.size(); ++t) B.ot[t] = move_box(O.tris[t], 3, y0, y1, half);
-  for (size_t e = 0; e < O.edges.size(); ++e) B.oe[e] = move_box(O.edges[e], 2, y0, y1, half + O.edge_radius[e]);
-  for (int k = 0; k < O.num_points; ++k) B.op[k] = move_box(std::array<int, 1>{k}, 1, y0, y1, half + radius[k]);
+  for (size_t t = 0; t < O.tris.size(); ++t) B.ot[t] = obstacle_triangle_box(O, int(t), y0, y1, half);
+  for (size_t e = 0; e < O.edges.size(); ++e) B.oe[e] = obstacle_edge_box(O, int(e), y0, y1, half);
+  for (int k = 0; k < O.num_points; ++k) B.op[k] = obstacle_point_box(radius, k, y0, y1, half);
   return B;
 }
 
@@ -149,28 +172,121 @@ bool ContactCache::covers(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, 
   return lo.size() == p.size() && (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
 }
 
+void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                         const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) {
+  ++queries_;
+  if (valid_ && covers(xlo_, xhi_, x0) && covers(xlo_, xhi_, x1) && covers(ylo_, yhi_, y0) && covers(ylo_, yhi_, y1))
+    return;
+  const double margin = 0.1 * P.dhat;
+  xlo_ = x0.cwiseMin(x1).array() - margin;
+  xhi_ = x0.cwiseMax(x1).array() + margin;
+  ylo_ = y0.cwiseMin(y1).array() - margin;
+  yhi_ = y0.cwiseMax(y1).array() + margin;
+  radius_ = point_radius(P.obstacles);
+  entries_.clear();
+  box_candidates(
+      P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
+      [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j, make_pair(P, radius_, g, i, j)}); }, true);
+  valid_ = true;
+  snapped_ = false;
+  gap_.assign(entries_.size(), 0.0);
+  ++builds_;
+}
+
+bool ContactCache::entry_overlaps(const Problem& P, const Entry& e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                                  const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) const {
+  const double half = 0.5 * P.dhat;
+  const ObstacleSet& O = P.obstacles;
+  switch (e.group) {
+    case SelfPT: return triangle_box(P, e.i, x0, x1, half).overlaps(vertex_box(e.j, x0, x1, half));
+    case SelfEE: return edge_box(P, e.i, x0, x1, half).overlaps(edge_box(P, e.j, x0, x1, half));
+    case ObstacleTriVertex: return obstacle_triangle_box(O, e.i, y0, y1, half).overlaps(vertex_box(e.j, x0, x1, half));
+    case TriObstaclePoint:
+      return triangle_box(P, e.i, x0, x1, half).overlaps(obstacle_point_box(radius_, e.j, y0, y1, half));
+    default: return edge_box(P, e.i, x0, x1, half).overlaps(obstacle_edge_box(O, e.j, y0, y1, half));
+  }
+}
+
 std::vector<ContactPair> ContactCache::candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
                                                   const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) {
-  ++queries_;
-  if (!(valid_ && covers(xlo_, xhi_, x0) && covers(xlo_, xhi_, x1) && covers(ylo_, yhi_, y0) &&
-        covers(ylo_, yhi_, y1))) {
-    const double margin = 0.1 * P.dhat;
-    xlo_ = x0.cwiseMin(x1).array() - margin;
-    xhi_ = x0.cwiseMax(x1).array() + margin;
-    ylo_ = y0.cwiseMin(y1).array() - margin;
-    yhi_ = y0.cwiseMax(y1).array() + margin;
-    entries_.clear();
-    box_candidates(
-        P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
-        [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j}); }, true);
-    valid_ = true;
-    ++builds_;
-  }
+  cover(P, x0, x1, y0, y1);
   const PrimBoxes B = prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat);
-  const std::vector<double> radius = point_radius(P.obstacles);
   std::vector<ContactPair> out;
   for (const Entry& e : entries_)
-    if (overlaps(B, e.group, e.i, e.j)) out.push_back(make_pair(P, radius, e.group, e.i, e.j));
+    if (overlaps(B, e.group, e.i, e.j)) out.push_back(e.pair);
+  return out;
+}
+
+namespace {
+
+// The moves of a pair's four points, from per-point moves of the cloth (dx) and the obstacles (dy).
+numerics::Vec12 pair_move(const ContactPair& c, const Eigen::VectorXd& dx, const Eigen::VectorXd& dy) {
+  numerics::Vec12 q;
+  for (int k = 0; k < 4; ++k) q.segment<3>(3 * k) = c.slot[k] >= 0 ? dx.segment<3>(3 * c.slot[k]) : dy.segment<3>(3 * (-1 - c.slot[k]));
+  return q;
+}
+
+bool has_obstacle_point(const ContactPair& c) {
+  return c.slot[0] < 0 || c.slot[1] < 0 || c.slot[2] < 0 || c.slot[3] < 0;
+}
+
+}  // namespace
+
+std::vector<ContactPair> ContactCache::near(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  cover(P, x, x, y, y);
+  const double m = 1e-4 * P.dhat, need = P.dhat + m;
+  Eigen::VectorXd dx, dy;
+  if (snapped_) dx = x - sx_, dy = y - sy_;
+  std::vector<ContactPair> out;
+  for (size_t k = 0; k < entries_.size(); ++k) {
+    const Entry& e = entries_[k];
+    if (snapped_) {
+      const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
+      if (g >= need) {
+        gap_[k] = g;
+        continue;
+      }
+    }
+    gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x, y)) - e.pair.dmin;
+    ++distances_;
+    if (gap_[k] >= need || !entry_overlaps(P, e, x, x, y, y)) continue;
+    out.push_back(e.pair);
+  }
+  sx_ = x;
+  sy_ = y;
+  snapped_ = true;
+  return out;
+}
+
+std::vector<ContactPair> ContactCache::ccd_candidates(const Problem& P, const Eigen::VectorXd& x0,
+                                                      const Eigen::VectorXd& x1, const Eigen::VectorXd& y0,
+                                                      const Eigen::VectorXd& y1) {
+  cover(P, x0, x1, y0, y1);
+  const double m = 1e-4 * P.dhat;
+  Eigen::VectorXd dx, dy;
+  if (snapped_) dx = x0 - sx_, dy = y0 - sy_;
+  const Eigen::VectorXd mx = x1 - x0, my = y1 - y0;
+  std::vector<ContactPair> out;
+  for (size_t k = 0; k < entries_.size(); ++k) {
+    const Entry& e = entries_[k];
+    const double f = has_obstacle_point(e.pair) ? kObstacleFloor * P.dhat : 0.0;
+    const double l = numerics::contact_speed(e.pair.kind, pair_move(e.pair, mx, my));
+    auto safe = [&](double g) { return (1 - kContactEta) * (g - f) - l >= m; };
+    if (snapped_) {
+      const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
+      if (safe(g)) {
+        gap_[k] = g;
+        continue;
+      }
+    }
+    gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x0, y0)) - e.pair.dmin;
+    ++distances_;
+    if (safe(gap_[k]) || !entry_overlaps(P, e, x0, x1, y0, y1)) continue;
+    out.push_back(e.pair);
+  }
+  sx_ = x0;
+  sy_ = y0;
+  snapped_ = true;
   return out;
 }
 

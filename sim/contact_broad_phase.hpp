@@ -25,6 +25,27 @@
 // matrix, and one over x -> x + p (the CCD of the Newton step) serves every line-search trial
 // x + alpha p, alpha in [0, 1]: fl(x + alpha p) lies between x and fl(x + p) per coordinate,
 // rounding being monotone.
+//
+// Near pairs (ContactCache::near, ::ccd_candidates): most of a region's pairs are far apart (a
+// flat sheet's neighbours beyond the shared vertices: their boxes overlap, their distance is a
+// triangle's size), and their barrier, friction and CCD are exactly those of no pair. The cache
+// keeps, per region pair, a lower bound g of its distance less d_min at the positions of its
+// last near or CCD query (the snapshot), and carries it to the next query's positions by the
+// CCD's speed bound (numerics/contact_pairs.hpp: contact_speed): on the straight move between
+// the two, the pair's distance changes by at most l = contact_speed(dq), dq its points' moves,
+// so g - l bounds it at the new positions (a common translation costs nothing: a falling
+// sheet's neighbours keep their bound). A pair whose bound is below what the query needs gets
+// its distance computed exactly (and g is that). The query needs, with a margin m = 1e-4 dhat
+// (far above the round-off of a distance or a bound at the coordinates of a scene):
+//   near at (x, y): g >= dhat + m, then d >= d_min + dhat: its barrier and friction are zero;
+//   CCD of (x0 -> x1): 0.9 (g - f) - l >= m at x0, f = 0 (kObstacleFloor dhat with an obstacle
+//   point), l its speed bound over the move: contact_ccd's first test, d0 - l > d_min + eta
+//   (d0 - d_min) (and the floor's), then returns t = 1.
+// The other region pairs go through the broad phase's own box test at the query's positions,
+// so the result is the candidates' list with pairs left out and nothing else changed: the
+// barrier's sum, its gradient and triplets, the CCD bound and its hits come out bit for bit.
+// Right after a build the snapshot is empty: every pair's distance is computed once (the CCD
+// of the move that built the region, which computed them before anyway).
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -59,6 +80,11 @@ numerics::Box3 move_box(const Idx& idx, int n, const Eigen::VectorXd& p0, const 
 // The vertex's representative: stitched vertices count as one (Problem::vertex_rep).
 inline int vertex_rep(const Problem& P, int v) { return P.vertex_rep.empty() ? v : P.vertex_rep[v]; }
 
+// contact_step_bound's CCD (sim/contact.hpp): the gap it may close (1 - eta of it), and the
+// floor of a pair with obstacle points, d_min + this times dhat.
+inline constexpr double kContactEta = 0.1;
+inline constexpr double kObstacleFloor = 0.1;
+
 // A broad phase kept over a region (see above). Use one per step (StepState::contact_cache):
 // the region follows the queries.
 class ContactCache {
@@ -66,20 +92,43 @@ class ContactCache {
   // The pairs of contact_candidates(P, x0, x1, y0, y1), as a set.
   std::vector<ContactPair> candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
                                       const Eigen::VectorXd& y0, const Eigen::VectorXd& y1);
+  // The pairs of candidates(P, x, x, y, y), in its order, less pairs shown to lie farther than
+  // d_min + P.dhat apart ("Near pairs" above): every one within it, whose barrier and friction
+  // are not zero, is among them.
+  std::vector<ContactPair> near(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y);
+  // The pairs of candidates(P, x0, x1, y0, y1), in its order, less pairs shown to stay safe on
+  // the whole move: contact_ccd with eta = kContactEta gives them t = 1 (a pair with an obstacle
+  // point also at the floor d_min + kObstacleFloor dhat), so contact_step_bound's fraction and
+  // hits are those of all the candidates.
+  std::vector<ContactPair> ccd_candidates(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                                          const Eigen::VectorXd& y0, const Eigen::VectorXd& y1);
   int builds() const { return builds_; }    // spatial hashes built
   int queries() const { return queries_; }  // queries answered (built or reused)
   size_t region_pairs() const { return entries_.size(); }
+  long distances() const { return distances_; }  // pair distances computed by near and ccd_candidates
 
  private:
   struct Entry {
     unsigned char group;
     int i, j;
+    ContactPair pair;
   };
   bool covers(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::VectorXd& p) const;
+  // Builds the region over the move unless it covers both ends.
+  void cover(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, const Eigen::VectorXd& y0,
+             const Eigen::VectorXd& y1);
+  bool entry_overlaps(const Problem& P, const Entry& e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                      const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) const;
   Eigen::VectorXd xlo_, xhi_, ylo_, yhi_;
   std::vector<Entry> entries_;
+  std::vector<double> radius_;  // obstacle points' capsule radius
   bool valid_ = false;
   int builds_ = 0, queries_ = 0;
+  // Near pairs: per entry a lower bound of (its distance - d_min) at (sx_, sy_), when snapped_.
+  Eigen::VectorXd sx_, sy_;
+  std::vector<double> gap_;
+  bool snapped_ = false;
+  long distances_ = 0;
 };
 
 // Candidate pairs over the move x0 -> x1 (cloth, 3n) and y0 -> y1 (obstacles, 3K); x1 = x0 and

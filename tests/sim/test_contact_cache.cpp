@@ -1,14 +1,17 @@
 // The step's contact broad phase and the Newton matrix's kept pattern (sim/contact_broad_phase.hpp,
 // sim/contact_pattern.hpp): a ContactCache answers every query covered by its region with
 // exactly the fresh broad phase's pair set (so the same pairs within d_hat, the same CCD bound),
-// rebuilding only when a query leaves the region; a PaddedPattern hands the solver the same
-// matrix on a pattern that changes only when a coupling leaves it, and the solve agrees.
+// rebuilding only when a query leaves the region, and leaves out of its near and CCD lists only
+// pairs whose barrier is zero and whose CCD gives t = 1 (the energy bit for bit); a
+// PaddedPattern hands the solver the same matrix on a pattern that changes only when a coupling
+// leaves it, and the solve agrees.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <tuple>
 
+#include "numerics/contact_pairs.hpp"
 #include "numerics/sparse_cholesky.hpp"
 #include "sim/contact.hpp"
 #include "sim/contact_pattern.hpp"
@@ -87,6 +90,84 @@ TEST(ContactCache, AnswersEveryCoveredQueryWithTheFreshBroadPhasesPairs) {
   const Eigen::VectorXd x2 = x + 2 * dx;
   EXPECT_EQ(keys(cache.candidates(P, x2, x2, y1, y1)), keys(contact_candidates(P, x2, x2, y1, y1)));
   EXPECT_EQ(cache.builds(), 2);
+}
+
+namespace {
+// Is `part` the list `all` with some pairs left out (order kept)?
+bool is_subsequence(const std::vector<ContactPair>& part, const std::vector<ContactPair>& all) {
+  size_t k = 0;
+  for (const ContactPair& c : all)
+    if (k < part.size() && c.kind == part[k].kind && c.slot == part[k].slot) ++k;
+  return k == part.size();
+}
+}  // namespace
+
+TEST(ContactCache, NearPairsLeaveOutOnlyPairsBeyondTheBarrierAndTheCcd) {
+  Eigen::VectorXd x, y;
+  const Problem P = two_sheets(x, y);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // A move of the whole scene by 3 mm (a translation: no pair's distance changes) plus 0.2 mm of
+  // noise per point: the snapshot's bounds carry most pairs from query to query.
+  Eigen::VectorXd dx(x.size()), dy(y.size());
+  for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = 3e-3 * (i % 3 == 0) + 2e-4 * u(rng);
+  for (Eigen::Index i = 0; i < dy.size(); ++i) dy[i] = 3e-3 * (i % 3 == 0) + 2e-4 * u(rng);
+  std::vector<int> free(P.mesh.num_vertices());
+  for (int v = 0; v < int(free.size()); ++v) free[v] = v;
+  ContactCache cache;
+  const Eigen::VectorXd x1 = x + dx, y1 = y + dy;
+  // The move's CCD first (it builds the region and computes every pair's distance once).
+  std::vector<ContactHit> hits, hits_fresh;
+  EXPECT_EQ(contact_step_bound(P, x, dx, y, dy, &hits, &cache), contact_step_bound(P, x, dx, y, dy, &hits_fresh));
+  EXPECT_EQ(hits.size(), hits_fresh.size());
+  EXPECT_EQ(cache.distances(), long(cache.region_pairs()));
+  for (double a : {1.0, 0.75, 0.5, 0.25, 0.0}) {
+    const Eigen::VectorXd xa = x + a * dx, ya = y + a * dy;
+    const std::vector<ContactPair> all = cache.candidates(P, xa, xa, ya, ya);  // same region, same order
+    const long before = cache.distances();
+    const std::vector<ContactPair> near = cache.near(P, xa, ya);
+    // Fewer distances than pairs: the bounds carried most of them (the 3 mm translation costs none).
+    EXPECT_LT(cache.distances() - before, long(cache.region_pairs()) / 4) << a;
+    EXPECT_TRUE(is_subsequence(near, all)) << a;
+    EXPECT_LT(near.size(), all.size()) << a;
+    EXPECT_EQ(within_dhat(P, near, xa, ya), within_dhat(P, all, xa, ya)) << a;
+    EXPECT_GT(within_dhat(P, near, xa, ya), 10) << a;
+    // Energy and gradient bit for bit those summed over all the region's candidates (in order).
+    Eigen::VectorXd g1 = Eigen::VectorXd::Zero(x.size()), g2 = g1;
+    const double E1 = contact_energy(P, free, xa, ya, &g1, nullptr, &cache);
+    double E2 = 0;
+    for (const ContactPair& c : cache.candidates(P, xa, xa, ya, ya)) {
+      numerics::Vec12 g;
+      const double e = numerics::contact_barrier_energy(c.kind, pair_coordinates(c, xa, ya), pair_barrier(P, c), &g);
+      if (e == 0) continue;
+      E2 += e;
+      for (int k = 0; k < 4; ++k)
+        if (c.slot[k] >= 0) g2.segment<3>(3 * c.slot[k]) += g.segment<3>(3 * k);
+    }
+    EXPECT_GT(E2, 0);
+    EXPECT_EQ(E1, E2) << a;
+    EXPECT_EQ((g1 - g2).cwiseAbs().maxCoeff(), 0.0) << a;
+    // Sub-moves' CCD: the candidates left out give contact_ccd's t = 1, and the bound is the
+    // full set's.
+    const double b = a < 0.5 ? a + 0.3 : a - 0.3;  // within the region
+    const Eigen::VectorXd xb = x + b * dx, yb = y + b * dy;
+    const std::vector<ContactPair> ccd = cache.ccd_candidates(P, xa, xb, ya, yb);
+    const std::vector<ContactPair> moved = cache.candidates(P, xa, xb, ya, yb);
+    EXPECT_TRUE(is_subsequence(ccd, moved));
+    EXPECT_LT(ccd.size(), moved.size());
+    for (const ContactPair& c : moved) {
+      const auto q0 = pair_coordinates(c, xa, ya), q1 = pair_coordinates(c, xb, yb);
+      if (std::find_if(ccd.begin(), ccd.end(), [&](const ContactPair& d) { return d.slot == c.slot && d.kind == c.kind; }) !=
+          ccd.end())
+        continue;
+      EXPECT_EQ(numerics::contact_ccd(c.kind, q0, q1, c.dmin, kContactEta).t, 1.0);
+      if (c.slot[0] < 0 || c.slot[2] < 0 || c.slot[3] < 0 || c.slot[1] < 0)
+        EXPECT_EQ(numerics::contact_ccd(c.kind, q0, q1, c.dmin + kObstacleFloor * P.dhat, kContactEta).t, 1.0);
+    }
+    EXPECT_EQ(contact_step_bound(P, xa, xb - xa, ya, yb - ya, nullptr, &cache),
+              contact_step_bound(P, xa, xb - xa, ya, yb - ya));
+  }
+  EXPECT_EQ(cache.builds(), 1);
 }
 
 TEST(ContactCache, PaddedPatternKeepsItsPatternWhileTheCouplingsStayWithinIt) {
