@@ -84,7 +84,7 @@ struct Chart {
         zh = -(p.head_depth > 0 ? p.head_depth : c) * sig_next;
       const double u = 0.5 * (1 + std::cos(th));
       const double a = m > 0 && p.held_bulb > 0 ? p.held_bulb : p.bulb;
-      q[0] = xj + w / (2 * M_PI) * (th + a * std::sin(2 * th));
+      q[0] = xj + w / (2 * M_PI) * (th + a * std::sin(2 * th)) + p.leg_spread * std::sin(th);
       q[1] = yk + b * std::cos(th) + p.waist * std::cos(3 * th) + p.held_height * m * h * u * u;
     }
     // z = A + B cos th + C cos 2th through the head (th = 0), the legs (+-pi/2) and the sinker

@@ -114,18 +114,19 @@ Pattern paper_slip_stitch_honeycomb() {
 // the float across them, as in the published tile: legs at 5.5 r, floats at 3.1 r), the float on
 // the face the course holds its yarn on. Two courses: half the published four-course tile (whose
 // courses 2 and 3 repeat 0 and 1, the yarn running the other way). Shape parameters in radii,
-// the yarn length 173.5 mm against the published 167.0 per two courses (+3.9 %). The relaxed rest
-// energy does not match yet: 1.80 against 0.772 J/m^2 (test_paper_patterns.cpp), stretch 0.47
-// (published 0.15), bend 1.01 (0.50), contact 0.27 (0.12) J/m^2, 2-4 times the published tile's in
-// every wale (docs/rve.md, "Where the energy sits", from `rve --energy-map`). The structural fault:
-// a held loop's catching stitch is itself held here, its legs at held_depth, but the head is placed
-// opposite legs at depth, so each long loop runs through the whole thickness to a head on the other
-// face (stored at +2.6 r, legs at -4.75 r: 29 r of travel along z per course where the published
-// loop spends 12, its head at -3.7 r on its legs' side) and the relaxation drags it 4.6 r back,
-// stretching the yarn 4.2 % and bending the garter loops' straight legs. Heads on the legs' side
-// (held_head_gap 2 r, held_height 0.65, held_bulb 0.5, float_lift 1.5 r, loop_height 3.4 r,
-// sinker_gap 2.5 r) reach 0.93 J/m^2 but turn in 0.38 r, the tile relaxing 14 % each way; rounder
-// held heads intersect: this loop shape cannot hold the published long loops (docs/rve.md).
+// the yarn length 174.6 mm against the published 167.0 per two courses (+4.5 %). The relaxed rest
+// energy does not match yet: 1.45 against 0.772 J/m^2 (test_paper_patterns.cpp). The generated
+// curve is a sketch that passes through itself: without leg_spread 97 segment pairs are closer
+// than one radius (centrelines 0.53 r apart at the closest, where contact wants 2 r; the published
+// tile has none closer than 1.8 r): the two legs of each loop below mid-height (bulb 1.925 brings
+// them within 0.6 r of each other), the floats through the held loops' legs, and each held loop's
+// head, put on the far face (29 r of travel along z per course where the published loop spends 12,
+// docs/rve.md "Where the energy sits"). The relaxation pushes them 1-1.5 r apart, stretching the
+// yarn and bending the set-in shape. leg_spread 0.8 r (the legs at mid-height 0.8 r further out)
+// takes Psi0 from 1.80 to 1.45 J/m^2; 1.0 r makes the generated geometry intersect. Heads on the
+// legs' side (held_head_gap 2 r, held_height 0.65, held_bulb 0.5, float_lift 1.5 r, loop_height
+// 3.4 r, sinker_gap 2.5 r, no leg_spread) reach 0.93 J/m^2 but turn in 0.38 r, the tile relaxing
+// 14 % each way; rounder held heads intersect (docs/rve.md).
 Pattern paper_cartridge_belt_rib() {
   const double r = 1e-3;
   KnitParams p;
@@ -142,6 +143,7 @@ Pattern paper_cartridge_belt_rib() {
   p.sinker_gap = 2.1 * r;
   p.float_depth = 3.4 * r;
   p.float_lift = -0.4 * r;
+  p.leg_spread = 0.8 * r;
   p.edge = 1.0 * r;
   return generate_knit(p);
 }

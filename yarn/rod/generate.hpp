@@ -86,6 +86,9 @@ struct KnitParams {
                                     // far face when head_depth < held_depth)
   double bulb = 1.0;                // a: how far the head overhangs the legs
   double waist = 0;                 // m, as in StockinetteParams
+  double leg_spread = 0;            // m: x += leg_spread sin th: each leg moves out by up to this
+                                    // (at mid-height, th = +-pi/2), the head's tip and the sinkers
+                                    // stay; with a large bulb a loop's legs come close below mid-height
   double float_depth = 0;           // m: a float's distance from the mid-plane (its face: above)
   double float_lift = 0;            // m: a float's rise above the sinkers at mid-wale
   double sinker_gap = 0;            // m: sinkers from the legs they pass (0: 2 depths)

@@ -168,3 +168,26 @@ TEST(GenerateKnit, HeldHeadGapKeepsTheHeadOfALoopCaughtByAHeldLoopOnItsLegsSide)
   const Eigen::Vector3d low = head(generate_knit(p));
   EXPECT_NEAR(near[1] - low[1], 0.5 * 3.1, 0.3);  // half a course (3.1 r) lower
 }
+
+// leg_spread moves each leg sideways by leg_spread at the loop's mid-height (th = +-pi/2, where
+// the loop crosses its course's centre line), keeping its head and sinkers where they were.
+TEST(GenerateKnit, LegSpreadWidensTheLegsAtMidHeight) {
+  const auto shape = [](double spread) {
+    KnitParams p = params({"K"});
+    p.leg_spread = spread * p.radius;
+    p.edge = 0.2 * p.radius;  // fine sampling: vertices near mid-height
+    // One loop from its sinker (th = -pi, the first vertex), loop_height (3 r) below the
+    // course's centre line.
+    const auto q = yarn_points(generate_knit(p), 0);
+    const double mid = q[0][1] + 3.0;
+    double lo = 1e9, hi = -1e9, top = -1e9;
+    for (const auto& v : q) {
+      if (std::abs(v[1] - mid) < 0.3) lo = std::min(lo, v[0]), hi = std::max(hi, v[0]);
+      top = std::max(top, v[1] - q[0][1]);
+    }
+    return Eigen::Vector2d(hi - lo, top);
+  };
+  const Eigen::Vector2d plain = shape(0), spread = shape(0.5);
+  EXPECT_NEAR(spread[0] - plain[0], 1.0, 0.2);  // both legs 0.5 r outward
+  EXPECT_NEAR(spread[1], plain[1], 0.05);       // the head as high
+}
