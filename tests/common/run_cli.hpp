@@ -1,13 +1,25 @@
 #pragma once
-// Runs the yarnhom program (YARNHOM_BINARY, defined for the tools tests) with arguments and
-// returns its exit status and its stdout and stderr together.
+// Runs the yarnhom program (YARNHOM_BINARY) with arguments and returns its exit status and its
+// stdout and stderr together.
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 namespace yarnhom::test {
+
+// The program, found from this test executable's folder (YARNHOM_BINARY_FROM_TESTS, the
+// relative path tests/CMakeLists.txt defines for the tools tests: ../tools/yarnhom), so that no
+// test file's command names the build folder and ccache gives the CUDA-off build the CUDA-on
+// build's objects (docs/layout.md, "CI").
+inline const char* yarnhom_binary() {
+  static const std::string path = (std::filesystem::read_symlink("/proc/self/exe").parent_path() /
+                                   YARNHOM_BINARY_FROM_TESTS).lexically_normal().string();
+  return path.c_str();
+}
+#define YARNHOM_BINARY (::yarnhom::test::yarnhom_binary())
 
 struct CliResult {
   int status;
