@@ -72,11 +72,14 @@ std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std
   for (const Box3& x : b) cell = std::max(cell, (x.hi - x.lo).maxCoeff() / 8);
   SpatialHash grid(cell, a.size());
   for (size_t i = 0; i < a.size(); ++i) grid.insert(int(i), a[i].lo, a[i].hi);
+  // (same: only i < j, by the hash's sorted cells: half the scan, the same pairs in the same order)
   for (size_t j = 0; j < b.size(); ++j)
-    grid.query(b[j].lo, b[j].hi, [&](int i) {
-      if (same && i >= int(j)) return;
-      if (a[i].overlaps(b[j])) out.emplace_back(i, int(j));
-    });
+    grid.query(
+        b[j].lo, b[j].hi,
+        [&](int i) {
+          if (a[i].overlaps(b[j])) out.emplace_back(i, int(j));
+        },
+        same ? int(j) : INT32_MAX);
   return out;
 }
 

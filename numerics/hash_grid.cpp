@@ -14,9 +14,12 @@ std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Box3>& boxe
   for (int i = 0; i < n; ++i) grid.insert(i, boxes[i].lo, boxes[i].hi);
   std::vector<std::pair<int, int>> pairs;
   for (int j = 0; j < n; ++j)
-    grid.query(boxes[j].lo, boxes[j].hi, [&](int i) {
-      if (i < j && boxes[i].overlaps(boxes[j])) pairs.emplace_back(i, j);
-    });
+    grid.query(
+        boxes[j].lo, boxes[j].hi,
+        [&](int i) {
+          if (boxes[i].overlaps(boxes[j])) pairs.emplace_back(i, j);
+        },
+        j);  // i < j
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }

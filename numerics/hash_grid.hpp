@@ -40,8 +40,10 @@ class SpatialHash {
 
   // Calls fn(id) once for every box entered in a cell that [lo, hi] touches, in a fixed order
   // (cells by x, then y, then z; within a cell, in insertion order). The caller tests the boxes.
+  // below: only ids below it (the boxes entered in increasing id order, a cell's ids are
+  // sorted: its scan stops at the first id at or above it; the same calls as skipping them).
   template <class Fn>
-  void query(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Fn&& fn) {
+  void query(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Fn&& fn, int below = INT32_MAX) {
     ++stamp_;
     for (int64_t x = cell_of(lo[0]); x <= cell_of(hi[0]); ++x)
       for (int64_t y = cell_of(lo[1]); y <= cell_of(hi[1]); ++y)
@@ -49,6 +51,7 @@ class SpatialHash {
           const auto it = grid_.find(key(x, y, z));
           if (it == grid_.end()) continue;
           for (int id : it->second) {
+            if (id >= below) break;
             if (seen_[size_t(id)] == stamp_) continue;
             seen_[size_t(id)] = stamp_;
             fn(id);
