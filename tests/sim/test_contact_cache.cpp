@@ -161,8 +161,9 @@ TEST(ContactCache, NearPairsLeaveOutOnlyPairsBeyondTheBarrierAndTheCcd) {
           ccd.end())
         continue;
       EXPECT_EQ(numerics::contact_ccd(c.kind, q0, q1, c.dmin, kContactEta).t, 1.0);
-      if (c.slot[0] < 0 || c.slot[2] < 0 || c.slot[3] < 0 || c.slot[1] < 0)
+      if (c.slot[0] < 0 || c.slot[2] < 0 || c.slot[3] < 0 || c.slot[1] < 0) {
         EXPECT_EQ(numerics::contact_ccd(c.kind, q0, q1, c.dmin + kObstacleFloor * P.dhat, kContactEta).t, 1.0);
+      }
     }
     EXPECT_EQ(contact_step_bound(P, xa, xb - xa, ya, yb - ya, nullptr, &cache),
               contact_step_bound(P, xa, xb - xa, ya, yb - ya));
