@@ -38,6 +38,13 @@ inline double rel_err(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double
   return (a - b).norm() / std::max(b.norm(), floor);
 }
 
+// The macroscopic strain (s_x, s_a, s_y, II_x, II_xy, II_y) from its six components.
+inline Strain strain(double a, double b, double c, double d, double e, double f) {
+  Strain s;
+  s << a, b, c, d, e, f;
+  return s;
+}
+
 }  // namespace yarnhom::yarn::testing
 
 #define YARN_REQUIRE_SHARED_PATTERNS()                                                   \

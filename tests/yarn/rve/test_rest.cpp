@@ -16,13 +16,9 @@
 using namespace yarnhom::yarn;
 using yarnhom::yarn::testing::shared_pattern;
 
-namespace {
+using yarnhom::yarn::testing::strain;
 
-Strain strain(double a, double b, double c, double d, double e, double f) {
-  Strain s;
-  s << a, b, c, d, e, f;
-  return s;
-}
+namespace {
 
 Pattern small_knit() {
   if (yarnhom::yarn::testing::have_shared_patterns()) return read_pyp(shared_pattern("stocktiny"));

@@ -19,13 +19,9 @@ using namespace yarnhom::yarn;
 using yarnhom::yarn::testing::rel_err;
 using yarnhom::yarn::testing::shared_pattern;
 
-namespace {
+using yarnhom::yarn::testing::strain;
 
-Strain strain(double a, double b, double c, double d, double e, double f) {
-  Strain s;
-  s << a, b, c, d, e, f;
-  return s;
-}
+namespace {
 
 // A state near equilibrium but not at it: the pattern's own state with small perturbations.
 RveState perturbed(const RveProblem& rve, unsigned seed) {

@@ -17,13 +17,9 @@
 
 using namespace yarnhom::yarn;
 
-namespace {
+using yarnhom::yarn::testing::strain;
 
-Strain strain(double a, double b, double c, double d, double e, double f) {
-  Strain s;
-  s << a, b, c, d, e, f;
-  return s;
-}
+namespace {
 
 Pattern small_knit() {
   if (yarnhom::yarn::testing::have_shared_patterns())
