@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/jet_layout.hpp"
+#include "cpu/epoch_kernel.hpp"
 #include "cpu/flush_denormals.hpp"
 #include "cpu/loss_step.hpp"
 #include "train/cpu_backend.hpp"
@@ -21,6 +22,7 @@ struct CpuNetwork {
   std::vector<float> params, grad, m, v;
   int64_t step = 0;
   cpu::LossWorkspace<float> ws;
+  cpu::EpochWorkspace<float> fws;  // the fused kernel's, for the shapes it covers
   std::vector<int> order;
   std::vector<float> bx, by, bg, xo, no;  // the current batch
 };
@@ -74,6 +76,15 @@ class CpuBackend final : public Backend {
   EpochStats run_network_epoch(int j, int epoch, double lr) override { return epoch_one(nets_[j], epoch, lr, 1); }
 
  private:
+  // One loss evaluation: on the fused kernel (cpu/epoch_kernel.hpp, one thread) for the network
+  // shapes and loss options it covers (the recipes'), else on cpu::mlp_loss_grad, whose chunks
+  // spread over the threads for large batches. Either way the result does not depend on threads.
+  cpu::LossValues loss(CpuNetwork& n, const cpu::LossBatch<float>& batch, float* grad, int threads) {
+    if (cpu::fused_loss_supported(n.job->desc, cfg_.loss))
+      return cpu::fused_loss_grad<float>(n.job->desc, n.params.data(), batch, cfg_.loss, grad, n.fws);
+    return cpu::mlp_loss_grad<float>(n.job->desc, n.params.data(), batch, cfg_.loss, grad, n.ws, threads);
+  }
+
   EpochStats epoch_one(CpuNetwork& n, int epoch, double lr, int threads) {
     cpu::flush_denormals();
     const double t0 = omp_get_wtime();
@@ -103,8 +114,7 @@ class CpuBackend final : public Backend {
       const uint64_t okey = batch_offdomain_key(job.key, epoch, b);
       for (int k = 0; k < K; ++k) offdomain_point<float>(d, okey, k, &n.xo[k * d], &n.no[k * d]);
       cpu::LossBatch<float> batch{m, n.bx.data(), n.by.data(), n.bg.data(), K, n.xo.data(), n.no.data()};
-      cpu::LossValues v = cpu::mlp_loss_grad<float>(job.desc, n.params.data(), batch, cfg_.loss,
-                                                    n.grad.data(), n.ws, threads);
+      cpu::LossValues v = loss(n, batch, n.grad.data(), threads);
       cpu::adam_update<float>(n.params.data(), n.grad.data(), n.m.data(), n.v.data(),
                               int(n.params.size()), adam, ++n.step);
       st.train.total += v.total;
@@ -123,7 +133,7 @@ class CpuBackend final : public Backend {
     st.train.x *= inv;
     cpu::LossBatch<float> val{job.n_val, job.x_val.data(), job.y_val.data(), job.g_val.data(),
                               int(job.xo_val.size()) / d, job.xo_val.data(), job.no_val.data()};
-    st.val = cpu::mlp_loss_grad<float>(job.desc, n.params.data(), val, cfg_.loss, nullptr, n.ws, threads);
+    st.val = loss(n, val, nullptr, threads);
     st.seconds = omp_get_wtime() - t0;
     return st;
   }

@@ -1,6 +1,7 @@
 // Micro-benchmarks of the CPU kernels: points per second of the jet forward pass (value and
 // all derivatives to third order) and of forward+backward, for d = 1 and 2 and batch sizes 4
-// to 65536, on one thread; plus the fused loss step of one training batch, and the machine's
+// to 65536, on one thread; plus the fused loss step of one training batch (on the general kernel
+// and on the epochs' fused kernel, cpu/epoch_kernel.hpp), and the machine's
 // single-core FP32 peak measured by a register-only FMA loop, so the kernels' rate can be read
 // as a fraction of it. FLOP counts per point are derived in docs/training.md and computed
 // here by jet_flops().
@@ -11,6 +12,7 @@
 
 #include "core/jet_layout.hpp"
 #include "core/offdomain.hpp"
+#include "cpu/epoch_kernel.hpp"
 #include "cpu/loss_step.hpp"
 #include "cpu/mlp_jet.hpp"
 
@@ -42,9 +44,10 @@ struct Inputs {
   std::vector<float> params, x, out, dout, grad;
 };
 
-Inputs make_inputs(int d, int batch, int order) {
+Inputs make_inputs(int d, int batch, int order, std::vector<int> hidden = {16, 32, 16}) {
   Inputs in;
   in.desc.input_dim = d;
+  in.desc.hidden = std::move(hidden);
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(-1, 1);
   in.params.resize(in.desc.num_params());
@@ -89,16 +92,21 @@ void BM_jet_forward(benchmark::State& st) { jet_passes(st, false); }
 void BM_jet_forward_backward(benchmark::State& st) { jet_passes(st, true); }
 
 // One training step's loss and gradient as train-all runs it: a batch of data points (4 in
-// 1D, 128 in 2D) at order 3 and 50 off-domain points at order 1.
+// 1D, 128 in 2D) at order 3 and 50 off-domain points at order 1. Arguments: d, the network
+// (3: Net-3 [16, 32, 16], 2: Net-2 [32, 32]), the kernel (0: cpu::mlp_loss_grad, 1: the epochs'
+// fused kernel cpu::fused_loss_grad, what the CPU backend runs).
 void BM_training_step(benchmark::State& st) {
   const int d = st.range(0), m = d == 1 ? 4 : 128, k = 50;
-  Inputs in = make_inputs(d, m, 3);
+  Inputs in = make_inputs(d, m, 3, st.range(1) == 3 ? std::vector<int>{16, 32, 16} : std::vector<int>{32, 32});
   std::vector<float> y(m, 0.1f), g(size_t(m) * d, 0.2f), xo(size_t(k) * d), no(size_t(k) * d);
   for (int j = 0; j < k; ++j) offdomain_point<float>(d, 7, j, &xo[j * d], &no[j * d]);
   cpu::LossBatch<float> b{m, in.x.data(), y.data(), g.data(), k, xo.data(), no.data()};
   cpu::LossWorkspace<float> ws;
+  cpu::EpochWorkspace<float> fws;
+  const bool fused = st.range(2) == 1;
   for (auto _ : st) {
-    auto v = cpu::mlp_loss_grad<float>(in.desc, in.params.data(), b, cpu::LossOptions{}, in.grad.data(), ws);
+    auto v = fused ? cpu::fused_loss_grad<float>(in.desc, in.params.data(), b, cpu::LossOptions{}, in.grad.data(), fws)
+                   : cpu::mlp_loss_grad<float>(in.desc, in.params.data(), b, cpu::LossOptions{}, in.grad.data(), ws);
     benchmark::DoNotOptimize(v);
   }
   st.counters["steps/s"] = benchmark::Counter(double(st.iterations()), benchmark::Counter::kIsRate);
@@ -142,5 +150,5 @@ BENCHMARK(BM_fp32_peak);
 BENCHMARK(BM_jet_forward)->ArgsProduct({{1, 2}, {4, 64, 1024, 16384, 65536}});
 BENCHMARK(BM_jet_forward_backward)->ArgsProduct({{1, 2}, {4, 64, 1024, 16384, 65536}});
 BENCHMARK(BM_fused_loss_grad)->ArgsProduct({{1, 2}, {4, 64, 1024, 16384, 65536}});
-BENCHMARK(BM_training_step)->DenseRange(1, 2);
+BENCHMARK(BM_training_step)->ArgsProduct({{1, 2}, {3, 2}, {0, 1}});
 BENCHMARK_MAIN();
