@@ -5,6 +5,7 @@
 
 #include "yarn/rod/generate.hpp"
 #include "yarn/rod/pattern_build.hpp"
+#include "yarn/rod/yarn_spacing.hpp"
 
 namespace yarnhom::yarn {
 namespace {
@@ -130,6 +131,7 @@ Pattern generate_knit(const KnitParams& prm) {
     const int n = std::max(3 * nw, static_cast<int>(std::lround(len / prm.edge)));
     add_yarn(pat, sample_equal_arc(curve, n), {1, 0});
   }
+  if (prm.spacing > 0) space_yarns(pat, prm.spacing, prm.spacing_smoothing);
   set_rest_to_shape(pat);
   return pat;
 }

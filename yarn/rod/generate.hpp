@@ -93,6 +93,10 @@ struct KnitParams {
   double float_lift = 0;            // m: a float's rise above the sinkers at mid-wale
   double sinker_gap = 0;            // m: sinkers from the legs they pass (0: 2 depths)
   double edge = 1e-3;               // m: about the edge length of the sampled yarn
+  double spacing = 0;               // m: > 0: the sampled yarns spaced by space_yarns to this
+                                    // distance between centrelines (yarn_spacing.hpp), keeping
+                                    // their crossings; 0: the sketch as drawn
+  double spacing_smoothing = 0;     // the smoothing of space_yarns (it shortens the yarn)
 };
 Pattern generate_knit(const KnitParams& p);
 
