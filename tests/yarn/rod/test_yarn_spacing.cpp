@@ -60,6 +60,29 @@ TEST(YarnSpacing, PushesApartToTheDistanceKeepingWhichYarnIsInFront) {
   }
 }
 
+// Two parallel yarns along x, 0.4 r apart near the tile's lower edge: spacing pushes the lower one
+// out of the tile; it comes back in at the top, its edges' offsets following.
+TEST(YarnSpacing, VerticesPushedOutOfTheTileComeBackInByAPeriod) {
+  const double r = 1e-3;
+  Pattern p;
+  p.name = "parallel";
+  p.radius = r;
+  p.px = p.py = 10 * r;
+  for (double y : {-4.9 * r, -4.5 * r}) {
+    std::vector<Eigen::Vector3d> a;
+    for (int i = 0; i < 10; ++i) a.emplace_back(-5 * r + (i + 0.5) * r, y, 0);
+    add_yarn(p, a, {1, 0});
+  }
+  space_yarns(p, 2 * r, 0);
+  const Topology t = topology(p);
+  EXPECT_NEAR(closest_segment_distance(p, 4, 3 * r), 2 * r, 0.05 * r);
+  EXPECT_GT(p.x[0][1], 0);  // the lower yarn, wrapped to the top
+  for (int v = 0; v < p.size(); ++v) {
+    EXPECT_LT(std::abs(p.x[v][1]), p.py / 2) << v;
+    EXPECT_NEAR(stored_edge(p, t, v).norm(), r, 1e-9) << v;
+  }
+}
+
 // The built-in cartridge belt rib's sketch has 88 segment pairs closer than one radius (0.57 r at
 // the closest); spaced, none is closer than 1.5 r (measured 1.59 r; 1.85 r once relaxed).
 TEST(YarnSpacing, GeneratedCartridgeBeltRibDoesNotPassThroughItself) {
