@@ -96,7 +96,7 @@ struct KnitParams {
   double spacing = 0;               // m: > 0: the sampled yarns spaced by space_yarns to this
                                     // distance between centrelines (yarn_spacing.hpp), keeping
                                     // their crossings; 0: the sketch as drawn
-  double spacing_smoothing = 0;     // the smoothing of space_yarns (it shortens the yarn)
+  double spacing_smoothing = 0;     // the smoothing of space_yarns, in [0, 0.5) (it shortens the yarn)
 };
 Pattern generate_knit(const KnitParams& p);
 

@@ -121,8 +121,12 @@ void space_yarns(Pattern& p, double distance, double smoothing, int iterations) 
     double largest = 0;
     for (int v = 0; v < n; ++v) {
       const int a = sp.t.prev[v];
-      const V3 mid = 0.5 * ((p.x[v] - stored_edge(p, sp.t, a)) + (p.x[v] + stored_edge(p, sp.t, v)));
-      move[v] = 0.5 * push[v] + smoothing * (mid - p.x[v]);
+      const V3 ea = stored_edge(p, sp.t, a), eb = stored_edge(p, sp.t, v);
+      const V3 mid = 0.5 * ((p.x[v] - ea) + (p.x[v] + eb));
+      // The umbrella step moves a vertex by about e^2 kappa / 2: per radius^2 of edge, so that the
+      // flow does not depend on the sampling.
+      const double lambda = std::min(0.45, smoothing * p.radius * p.radius / (ea.norm() * eb.norm()));
+      move[v] = 0.5 * push[v] + lambda * (mid - p.x[v]);
       largest = std::max(largest, move[v].norm());
     }
     const double scale = largest > 0.45 * closest ? 0.45 * closest / largest : 1.0;

@@ -16,8 +16,10 @@ int segment_pairs_closer_than(const Pattern& p, double distance, int skip = 4);
 // Pushes apart, for `iterations` rounds, every such pair closer than `distance` (m): each
 // round moves the two segments' ends along the line of their closest points by half the
 // shortfall each (shared by the ends as the closest points divide the segments), the moves
-// averaged along the yarn over its neighbours, plus `smoothing` times the move of each vertex
-// to the midpoint of its neighbours (the curve's umbrella smoothing, which also shortens it).
+// averaged along the yarn over its neighbours, plus `smoothing` r^2 / (e_a e_b) (at most 0.45)
+// times the move of each vertex to the midpoint of its neighbours, e_a and e_b its edges' lengths
+// (umbrella smoothing scaled so that each round is the same step of curve-shortening flow,
+// whatever the sampling; it also shortens the yarn).
 // No vertex moves more than 0.45 of the round's closest distance, so no two segments pass
 // through each other: the yarns keep the sketch's crossings (which yarn passes in front).
 // Vertices that leave the tile are wrapped back (their edges' offsets follow). Leaves the rest
