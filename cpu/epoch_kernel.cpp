@@ -15,8 +15,8 @@ using epoch::PassInputs;
 using epoch::PassSums;
 
 // One network shape and data order: the data pass, the off-domain pass, then the sums across
-// lanes. The workspace holds, 64-byte aligned: the P lane accumulators, the transposed hidden
-// weights, and the larger of the two passes' scratch.
+// lanes. The workspace holds, 64-byte aligned: the P lane accumulators and the larger of the two
+// passes' scratch.
 template <class T, int D, int ORDER, int... H>
 LossValues run_net(const T* params, const LossBatch<T>& batch, const LossOptions& opt, T* grad,
                    EpochWorkspace<T>& ws) {
@@ -25,21 +25,11 @@ LossValues run_net(const T* params, const LossBatch<T>& batch, const LossOptions
   using OffPass = Pass<T, true, 1, D, H...>;
   using V = typename epoch::Simd<T>::V;
   constexpr int L = epoch::Simd<T>::L, P = S::P;
-  constexpr int kWt = (P + L - 1) / L;
-  constexpr int kVectors = P + kWt + std::max(DataPass::kScratch, OffPass::kScratch);
+  constexpr int kVectors = P + std::max(DataPass::kScratch, OffPass::kScratch);
   if (ws.buf.size() < size_t(kVectors + 1) * L) ws.buf.assign(size_t(kVectors + 1) * L, T(0));
   V* dw = reinterpret_cast<V*>((reinterpret_cast<uintptr_t>(ws.buf.data()) + 63) & ~uintptr_t(63));
-  T* Wt = reinterpret_cast<T*>(dw + P);
-  V* scratch = dw + P + kWt;
+  V* scratch = dw + P;
 
-  // The hidden layers' weights transposed, [in][out], for the forward products (k >= 1).
-  for (int k = 1; k < S::NH; ++k) {
-    const int NI = S::kWidth[k], NO = S::kWidth[k + 1];
-    const T* W = params + S::woff(k);
-    T* t = Wt + S::woff(k);
-    for (int o = 0; o < NO; ++o)
-      for (int i = 0; i < NI; ++i) t[i * NO + o] = W[o * NI + i];
-  }
   if (grad) std::fill(dw, dw + P, V{});
   V* acc = grad ? dw : nullptr;
 
@@ -52,24 +42,20 @@ LossValues run_net(const T* params, const LossBatch<T>& batch, const LossOptions
     in.n = batch.m, in.x = batch.x, in.y = batch.y, in.g = batch.g, in.wt = batch.wt;
     in.use_z = w.z != 0, in.use_f = w.f != 0, in.use_c = ORDER >= 3 && w.c != 0;
     in.cz = T(w.z) * inv_m * T(2), in.cf = T(w.f) * inv_m * T(2), in.cc = T(w.c) * inv_m;
-    DataPass::run(params, Wt, in, acc, scratch, sums);
+    DataPass::run(params, in, acc, scratch, sums);
   }
   if (batch.k > 0 && w.s != 0) {
     PassInputs<T> in;
     in.n = batch.k, in.x = batch.xo, in.no = batch.no;
     in.cs = T(w.s) * inv_k * T(2);
-    OffPass::run(params, Wt, in, acc, scratch, sums);
+    OffPass::run(params, in, acc, scratch, sums);
   }
 
-  // Sums across lanes, in lane order.
-  T tz = 0, tf = 0, tc = 0, ts = 0;
-  for (int l = 0; l < L; ++l) tz += sums.z[l], tf += sums.f[l], tc += sums.c[l], ts += sums.s[l];
+  // Sums across lanes (epoch::lane_sum: a fixed order).
+  const T tz = epoch::lane_sum<T>(sums.z), tf = epoch::lane_sum<T>(sums.f);
+  const T tc = epoch::lane_sum<T>(sums.c), ts = epoch::lane_sum<T>(sums.s);
   if (grad)
-    for (int p = 0; p < P; ++p) {
-      T s = 0;
-      for (int l = 0; l < L; ++l) s += dw[p][l];
-      grad[p] = s;
-    }
+    for (int p = 0; p < P; ++p) grad[p] = epoch::lane_sum<T>(dw[p]);
   LossValues v;
   v.z = double(tz) * double(inv_m);
   v.f = double(tf) * double(inv_m);

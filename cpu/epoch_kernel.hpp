@@ -23,7 +23,7 @@
 
 namespace yarnhom::cpu {
 
-// Scratch of the epoch kernel: per-weight lane accumulators, transposed weights and one group of
+// Scratch of the epoch kernel: per-weight lane accumulators and one group of
 // points' jets, reused from call to call.
 template <class T>
 struct EpochWorkspace {

@@ -51,6 +51,25 @@ struct Simd {
   static constexpr int L = 64 / int(sizeof(T));
 };
 
+// The sum of a vector's lanes, by halves (16 -> 8 -> 4 floats, 8 -> 4 -> 2 doubles) and then
+// in lane order: a fixed order, in vector adds.
+template <class T>
+inline T lane_sum(const typename Simd<T>::V& v) {
+  typedef T H __attribute__((vector_size(32)));
+  typedef T Q __attribute__((vector_size(16)));
+  H a, b;
+  __builtin_memcpy(&a, &v, 32);
+  __builtin_memcpy(&b, reinterpret_cast<const char*>(&v) + 32, 32);
+  const H h = a + b;
+  Q c, d;
+  __builtin_memcpy(&c, &h, 16);
+  __builtin_memcpy(&d, reinterpret_cast<const char*>(&h) + 16, 16);
+  const Q q = c + d;
+  T s = q[0];
+  for (int l = 1; l < int(16 / sizeof(T)); ++l) s += q[l];
+  return s;
+}
+
 // The network: input dimension D, hidden widths H..., a linear output.
 template <int D, int... H>
 struct Shape {
@@ -244,9 +263,10 @@ struct Pass {
   }
 
   // Z = W A + b of hidden layer k >= 1: values into Zv [NO][G], channels >= 1 into Z [NO][CZ][G].
-  // Wt: [NI][NO] (transposed), so a block of OB outputs reads OB consecutive weights per input.
+  // W: row-major [NO][NI]; each weight is broadcast from memory into its FMAs (no transposed
+  // copy: a broadcast costs one load wherever the weight sits).
   template <int NI, int NO>
-  static void forward_dense(const T* Wt, const T* bias, const V* Ain, V* Zv, V* Z) {
+  static void forward_dense(const T* W, const T* bias, const V* Ain, V* Zv, V* Z) {
     for (int o0 = 0; o0 < NO; o0 += OB) {
       V acc[OB][C][G];
       unroll<OB>([&](auto ob) {
@@ -255,11 +275,10 @@ struct Pass {
         });
       });
       for (int i = 0; i < NI; ++i) {
-        const T* wr = Wt + i * NO + o0;
         unroll<C>([&](auto c) {
           unroll<G>([&](auto g) {
             const V a = Ain[(i * C + c) * G + g];
-            unroll<OB>([&](auto ob) { acc[ob][c][g] += wr[ob] * a; });
+            unroll<OB>([&](auto ob) { acc[ob][c][g] += W[(o0 + ob) * NI + i] * a; });
           });
         });
       }
@@ -320,9 +339,9 @@ struct Pass {
     }
   }
 
-  // The whole pass over in.n points. Wt: the transposed hidden weights (layers 1..NH-1, at
-  // woff(k)); dw: the lane accumulators (null: no gradient); scratch: kScratch vectors.
-  static void run(const T* params, const T* Wt, const PassInputs<T>& in, V* dw, V* scratch,
+  // The whole pass over in.n points. dw: the lane accumulators (null: no gradient); scratch:
+  // kScratch vectors.
+  static void run(const T* params, const PassInputs<T>& in, V* dw, V* scratch,
                   PassSums<V>& sums) {
     const Buf b = buffers(scratch);
     for (int p0 = 0; p0 < in.n; p0 += G * L) {
@@ -357,7 +376,7 @@ struct Pass {
       unroll<NH - 1>([&](auto km1) {
         constexpr int k = km1 + 1;
         constexpr int NI = S::kWidth[k], NO = S::kWidth[k + 1];
-        forward_dense<NI, NO>(Wt + S::woff(k), params + S::boff(k), b.A + aoff(k - 1), b.Zv, b.Z + zoff(k));
+        forward_dense<NI, NO>(params + S::woff(k), params + S::boff(k), b.A + aoff(k - 1), b.Zv, b.Z + zoff(k));
         sigmoid<NO, false>(b.Zv, b.Z + zoff(k), b.A + aoff(k));
       });
       // The linear output layer.

@@ -3,13 +3,16 @@
 # the CUDA polish tests, train-all on `synth --preset paper` with the default recipe on the GPU
 # (twice: bit-identical?), the same with the polish left to the CPU (YARNHOM_CUDA_POLISH=cpu,
 # the old behaviour), the paper's recipe on the GPU, the CPU default and paper recipes on 2
-# pinned cores, bench_polish, and the PyTorch reference of the paper's recipe on the same GPU.
+# pinned cores, bench_polish, the training step's kernels on one pinned core (bench_kernels
+# BM_training_step: the general kernel and the epochs' fused kernel), and the PyTorch reference of
+# the paper's recipe on the same GPU. BASE_Y=PATH (another yarnhom binary, e.g. main's before a
+# change) makes the cpu step alternate it with this build's, two runs of each recipe each.
 # From the repository root, on the device machine:
-#   bash tools/bench/bench_polish_device.sh [build] [tests] [train] [cpu] [bench] [torch]   (default: all)
+#   bash tools/bench/bench_polish_device.sh [build] [tests] [train] [cpu] [bench] [kernels] [torch]   (default: all)
 set -u -o pipefail
 OUT=${OUT:-$PWD/device-out}
 mkdir -p "$OUT"
-steps=${*:-build tests train cpu bench torch}
+steps=${*:-build tests train cpu bench kernels torch}
 has() { [[ " $steps " == *" $1 "* ]]; }
 [ -f .devdeps/env.sh ] && source .devdeps/env.sh
 B=${B:-/tmp/build-gpu}
@@ -20,7 +23,7 @@ if has build; then
   t0=$(date +%s)
   cmake -S . -B $B ${DEVDEPS_CMAKE_ARGS:-} -DYARNHOM_CUDA=ON -DCMAKE_CUDA_ARCHITECTURES=90 \
     -DCMAKE_BUILD_TYPE=Release > "$OUT/build.log" 2>&1 &&
-    make -C $B -j"$(nproc)" yarnhom test_cuda bench_polish >> "$OUT/build.log" 2>&1
+    make -C $B -j"$(nproc)" yarnhom test_cuda bench_polish bench_kernels >> "$OUT/build.log" 2>&1
   rc=$?
   echo "build rc=$rc in $(( $(date +%s) - t0 )) s"
   [ $rc -ne 0 ] && { grep -E "error|Error" "$OUT/build.log" | head -30; tail -20 "$OUT/build.log"; exit 1; }
@@ -68,12 +71,22 @@ fi
 
 if has cpu; then
   for r in 1 2; do
-    run "cpu default, 2 threads pinned (taskset 0,1), run $r" taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpu.h5 --threads 2 -q
+    for y in $Y ${BASE_Y:-}; do
+      run "cpu default, 2 threads pinned (taskset 0,1), $y, run $r" taskset -c 0,1 $y train-all /tmp/paper.h5 -o /tmp/m_cpu.h5 --threads 2 -q
+      grep -c FAILS /tmp/r.log | sed 's/^/  failing terms: /'
+    done
   done
   cp /tmp/r.log "$OUT/train_cpu_default.log"
   for r in 1 2; do
-    run "cpu paper recipe, 2 threads pinned, run $r" taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpup.h5 --threads 2 --recipe paper -q
+    for y in $Y ${BASE_Y:-}; do
+      run "cpu paper recipe, 2 threads pinned, $y, run $r" taskset -c 0,1 $y train-all /tmp/paper.h5 -o /tmp/m_cpup.h5 --threads 2 --recipe paper -q
+    done
   done
+fi
+
+if has kernels; then
+  taskset -c 2 $B/tools/bench_kernels --benchmark_filter=BM_training_step --benchmark_min_time=0.3 2>&1 |
+    tee "$OUT/bench_kernels_step.log" | grep -E "^BM_" | sed -E 's/ +/ /g'
 fi
 
 if has bench; then
