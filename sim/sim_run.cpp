@@ -297,6 +297,11 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
                s.name.c_str(), r.frames_done, s.frames, r.steps.size(), its / n, 1e3 * wall / n,
                format_seconds(el).c_str(),
                unconverged ? (", " + std::to_string(unconverged) + " step(s) not converged to --tol").c_str() : "");
+  if (r.residual_vertices > 0)
+    std::fprintf(stderr,
+                 "sim %s: residual force of the last frame, |f|/(m g) over the %d free vertices off the colliders: rms "
+                 "%.3g, max %.3g\n",
+                 s.name.c_str(), r.residual_vertices, r.residual_rms, r.residual_max);
   if (o.profile)
     std::fprintf(stderr,
                  "profile (ms per step): assembly %.2f wall [element loop CPU: strain %.2f, material %.2f, chain rule "

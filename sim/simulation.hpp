@@ -66,6 +66,11 @@ struct SimResult {
   double tol_step = 0;           // the Newton tolerance used, m
   StepNorm tol_norm = StepNorm::Max;  // ... and the norm it bounds
   int analyses = 0;              // the sparse Cholesky's pattern analyses (numerics/sparse_cholesky.hpp)
+  // Dynamics: the out-of-balance force of the last state, f = -grad(E_shell + gravity + colliders
+  // + contact), per free vertex farther than 2 dhat from every collider (friction may hold a
+  // touching vertex), as |f_i| / (m_i g): root mean square and largest; 0 at an equilibrium.
+  double residual_rms = NAN, residual_max = NAN;
+  int residual_vertices = 0;
 };
 
 // Called after every frame with the frame number and the steps so far.

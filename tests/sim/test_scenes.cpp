@@ -1,6 +1,7 @@
 // Whole simulations through run_simulation: the stretch scene on a homogeneous material
 // reports, per clamp width, the material's own dPsi/ds at the strip's middle (1 %); free fall
-// follows implicit Euler's discrete solution exactly with both integrators; the hang scene
+// follows implicit Euler's discrete solution exactly with both integrators (its last state's
+// residual force is the sheet's weight); the hang scene
 // stays finite and never gains energy.
 #include <gtest/gtest.h>
 
@@ -143,6 +144,10 @@ TEST(Scenes, FreeFallFollowsImplicitEulerExactly) {
       EXPECT_NEAR(r.v[3 * v + 2], -9.81 * h * n, 1e-9);
       EXPECT_NEAR(r.x[3 * v], s.mesh.x(v, 0), 1e-12);
     }
+    // Unstrained and falling freely: the out-of-balance force at every vertex is its weight.
+    EXPECT_EQ(r.residual_vertices, s.mesh.num_vertices());
+    EXPECT_NEAR(r.residual_rms, 1.0, 1e-9);
+    EXPECT_NEAR(r.residual_max, 1.0, 1e-9);
   }
 }
 
