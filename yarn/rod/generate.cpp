@@ -76,17 +76,19 @@ Pattern paper_stockinette() {
 // purl one wale and slip the other with the yarn on the purl side (+z), courses 1 and 3 knit
 // both: each slipped loop is held up through the slipping course (the honeycomb's long loops,
 // floats across them). Shape parameters in radii, from a coordinate search on the rest energy
-// with the yarn length held within 4 % (184.1 against the published 178.2 mm): Psi0 0.325
-// against 0.321 J/m^2, the tile relaxed by (-0.026, +0.008, +0.018) (the published +0.019,
-// -0.046, +0.014). The earlier shape (loop height 3.18, depth 0.8, bulb 1.78, floats at 3.6 r)
-// relaxed 15 % shorter along the wale to 0.56 J/m^2: its loops pressed into each other. The
-// tile has two rest minima close together: this sampling (184 vertices, edges of about one
-// radius) settles in the published one; 176-194 vertices (edges 5 % longer or shorter, 1 %
-// longer) settle at 0.55-0.56 J/m^2, while small changes of the shape (loop height +0.4 %,
-// float lift -0.013 r) keep 0.321-0.325. The two are a bifurcation of the relaxation: the lower legs
-// of the knit courses' loops over the purl loops below move 2.4 r to the back (the tile thickens to
-// the published tile's thickness) or 0.9 r only (the tile shortens 3.7 % along the wale); a deeper
-// sinker_gap does not remove the choice (docs/rve.md, "Where the energy sits").
+// of the unspaced sketch (the earlier shape, loop height 3.18, depth 0.8, bulb 1.78, floats at
+// 3.6 r, relaxed 15 % shorter along the wale to 0.56 J/m^2: its loops pressed into each other).
+// The sketch passes through itself (46 segment pairs closer than one radius, 0.75 r at the
+// closest); it is spaced (space_yarns, yarn_spacing.hpp) to 1.62 r between centrelines, without
+// smoothing: the closest pair then 1.61 r apart (1.90 r relaxed; the published tile 1.87 r stored),
+// yarn 183.0 against the published 178.2 mm (unspaced 184.1), Psi0 0.325 against 0.321 J/m^2.
+// The rest energy falls as the spacing grows (1.55 r: 0.39, 1.6 r: 0.35, 1.65 r: 0.29, 1.7 r:
+// 0.24, 2 r: 0.034 J/m^2, the yarn 194.8 mm): the spacing is the parameter that sets it. The tile
+// still has two rest shapes close together (the lower legs of the knit courses' loops over the
+// purl loops below settle further back or not: z -4.0..4.0 r, 3.5 % shorter along the wale, or
+// -4.7..4.3 r, 2 % shorter), but spaced they are at one energy: edges 5 % shorter to 5 % longer
+// (194-176 vertices) give 0.313-0.334 J/m^2, where the unspaced sketch gave 0.55-0.56 for all but
+// its own sampling (docs/rve.md, "Where the energy sits").
 Pattern paper_slip_stitch_honeycomb() {
   const double r = 1e-3;
   KnitParams p;
@@ -104,6 +106,7 @@ Pattern paper_slip_stitch_honeycomb() {
   p.waist = -0.104 * r;
   p.float_lift = -0.047 * r;
   p.edge = 1.0 * r;
+  p.spacing = 1.62 * r;
   return generate_knit(p);
 }
 

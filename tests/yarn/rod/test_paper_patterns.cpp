@@ -8,8 +8,9 @@
 // basket 102.5 / 101.2 mm, Psi0 5.96e-5 / 5.78e-5 (both nearly stress free: the contacts just
 // touch); satin 137.9 / 136.8 mm, Psi0 0.01168 / 0.01170 J/m^2 (each yarn flat on its side of
 // the cloth, peaked at its interlacing; with the cosine profile it was 0.033: the yarns pressed
-// at the crossings beside the interlacings); slip stitch honeycomb 184.1 / 178.2 mm, Psi0 0.325 /
-// 0.321 J/m^2 (its earlier shape relaxed 15 % shorter along the wale to 0.56); cartridge belt
+// at the crossings beside the interlacings); slip stitch honeycomb 183.0 / 178.2 mm, Psi0 0.325 /
+// 0.321 J/m^2 (its sketch spaced to 1.62 r, generate.cpp; unspaced 184.1 mm and 0.325, passing
+// through itself; its earlier shape relaxed 15 % shorter along the wale to 0.56); cartridge belt
 // rib (two courses, compared repeated 1 x 2) 331.9 / 334.0 mm, Psi0 0.764 / 0.772 J/m^2 (its
 // sketch spaced to contact distance, generate.cpp; unspaced 349 mm and 1.45 J/m^2).
 #include <gtest/gtest.h>
