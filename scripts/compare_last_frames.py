@@ -52,7 +52,7 @@ def main():
     head = ("run", "exit", "steps", "it/step", "last frame to Newton's, rms / max (m)",
             "to the nearest other Newton run (m)", "centre of mass moved (m)", "lowest point (m)",
             "extents x / y / z (m)", "last frame's move, rms (m)", "potential (J)", "kinetic (J)",
-            "max speed (m/s)", "residual |f|/(m g) off the colliders, rms / max")
+            "max speed (m/s)", "residual force / vertex weight off the colliders, rms / max")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for prefix, group in runs.items():
