@@ -5,7 +5,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 #include "core/jet_layout.hpp"
 #include "cpu/epoch_kernel.hpp"
@@ -32,6 +34,8 @@ class CpuBackend final : public Backend {
   std::string name() const override { return "cpu"; }
 
   void setup(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg) override {
+    const char* env = std::getenv("YARNHOM_CPU_EPOCH_KERNEL");
+    fused_ = !(env && std::string(env) == "general");
     jobs_ = jobs;
     cfg_ = cfg;
     nets_.assign(jobs_.size(), {});
@@ -79,8 +83,9 @@ class CpuBackend final : public Backend {
   // One loss evaluation: on the fused kernel (cpu/epoch_kernel.hpp, one thread) for the network
   // shapes and loss options it covers (the recipes'), else on cpu::mlp_loss_grad, whose chunks
   // spread over the threads for large batches. Either way the result does not depend on threads.
+  // YARNHOM_CPU_EPOCH_KERNEL=general keeps every network on the general kernel (for comparisons).
   cpu::LossValues loss(CpuNetwork& n, const cpu::LossBatch<float>& batch, float* grad, int threads) {
-    if (cpu::fused_loss_supported(n.job->desc, cfg_.loss))
+    if (fused_ && cpu::fused_loss_supported(n.job->desc, cfg_.loss))
       return cpu::fused_loss_grad<float>(n.job->desc, n.params.data(), batch, cfg_.loss, grad, n.fws);
     return cpu::mlp_loss_grad<float>(n.job->desc, n.params.data(), batch, cfg_.loss, grad, n.ws, threads);
   }
@@ -141,6 +146,7 @@ class CpuBackend final : public Backend {
   std::vector<NetworkJob> jobs_;
   TrainConfig cfg_;
   std::vector<CpuNetwork> nets_;
+  bool fused_ = true;
 };
 
 }  // namespace

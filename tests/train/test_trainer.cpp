@@ -3,7 +3,10 @@
 // loss becomes non-finite stops alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "produce/synthetic.hpp"
 #include "cpu/loss_step.hpp"
@@ -85,4 +88,53 @@ TEST(Trainer, NonFiniteLossStopsThatNetworkOnly) {
   ASSERT_EQ(res.model.networks.size(), 1u);
   EXPECT_EQ(res.model.networks[0].term.name, "0");
   EXPECT_EQ(res.model.networks[0].epochs, 10);
+}
+
+// The epochs' fused kernel (cpu/epoch_kernel.hpp) against the general kernel
+// (YARNHOM_CPU_EPOCH_KERNEL=general) over 20 epochs of every quick synthetic term, Net-3 and
+// Net-2 for the 2D terms: the same function with float sums in another order, so the weights
+// may drift apart only by float rounding (the bounds of the CUDA backend's twin test,
+// tests/cuda/test_cuda_train.cpp: a wrong channel or term shows up at 1e-3 or more).
+TEST(Trainer, FusedEpochKernelMatchesTheGeneralKernelWithinFloatDrift) {
+  static const Dataset ds = make_synthetic_dataset("quick");
+  std::vector<Term> terms;
+  for (auto& t : ds.terms) terms.push_back(t.term);
+  for (const std::vector<int>& h2 : {std::vector<int>{}, std::vector<int>{32, 32}}) {
+    TrainerOptions opt;
+    opt.hidden_2d = h2;
+    opt.seed = 3;
+    opt.config.epochs = 20;
+    opt.config.threads = 2;
+    auto run = [&](bool general) {
+      if (general) setenv("YARNHOM_CPU_EPOCH_KERNEL", "general", 1);
+      auto be = make_backend("cpu");
+      TrainResult r = train_terms(ds, "synthetic-quick", terms, opt, *be);
+      unsetenv("YARNHOM_CPU_EPOCH_KERNEL");
+      return r;
+    };
+    const TrainResult f = run(false), g = run(true);
+    double worst_w = 0, worst_l = 0;
+    ASSERT_EQ(f.model.networks.size(), terms.size());
+    ASSERT_EQ(g.model.networks.size(), terms.size());
+    for (size_t j = 0; j < terms.size(); ++j) {
+      const auto& a = f.model.networks[j];
+      const auto& b = g.model.networks[j];
+      double num = 0, den = 0;
+      for (size_t i = 0; i < a.params.size(); ++i) {
+        num += (double(a.params[i]) - b.params[i]) * (double(a.params[i]) - b.params[i]);
+        den += double(b.params[i]) * b.params[i];
+      }
+      const double dw = std::sqrt(num / den);
+      const double dl0 = std::abs(a.history.train_loss[0] - b.history.train_loss[0]) / b.history.train_loss[0];
+      const double dl = std::abs(a.history.val_loss.back() - b.history.val_loss.back()) / b.history.val_loss.back();
+      worst_w = std::max(worst_w, dw);
+      worst_l = std::max(worst_l, dl);
+      EXPECT_NE(dw, 0.0) << a.term.name << ": the switch must select the other kernel";
+      EXPECT_LT(dl0, 2e-5) << a.term.name << " 2D hidden " << h2.size();
+      EXPECT_LT(dw, 1e-5) << a.term.name << " 2D hidden " << h2.size();
+      EXPECT_LT(dl, 1e-5) << a.term.name << " 2D hidden " << h2.size();
+    }
+    std::printf("  2D hidden %s: worst relative weight difference %.3e, final validation loss %.3e\n",
+                h2.empty() ? "Net-3" : "Net-2", worst_w, worst_l);
+  }
 }

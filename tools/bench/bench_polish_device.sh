@@ -5,8 +5,8 @@
 # the old behaviour), the paper's recipe on the GPU, the CPU default and paper recipes on 2
 # pinned cores, bench_polish, the training step's kernels on one pinned core (bench_kernels
 # BM_training_step: the general kernel and the epochs' fused kernel), and the PyTorch reference of
-# the paper's recipe on the same GPU. BASE_Y=PATH (another yarnhom binary, e.g. main's before a
-# change) makes the cpu step alternate it with this build's, two runs of each recipe each.
+# the paper's recipe on the same GPU. The cpu step alternates the epochs' fused kernel with the
+# general one (YARNHOM_CPU_EPOCH_KERNEL=general, the behaviour before it), two runs of each.
 # From the repository root, on the device machine:
 #   bash tools/bench/bench_polish_device.sh [build] [tests] [train] [cpu] [bench] [kernels] [torch]   (default: all)
 set -u -o pipefail
@@ -71,15 +71,17 @@ fi
 
 if has cpu; then
   for r in 1 2; do
-    for y in $Y ${BASE_Y:-}; do
-      run "cpu default, 2 threads pinned (taskset 0,1), $y, run $r" taskset -c 0,1 $y train-all /tmp/paper.h5 -o /tmp/m_cpu.h5 --threads 2 -q
+    for k in fused general; do
+      YARNHOM_CPU_EPOCH_KERNEL=$k run "cpu default, 2 threads pinned (taskset 0,1), epoch kernel $k, run $r" \
+        taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpu_$k.h5 --threads 2 -q
+      cp /tmp/r.log "$OUT/train_cpu_default_$k.log"
       grep -c FAILS /tmp/r.log | sed 's/^/  failing terms: /'
     done
   done
-  cp /tmp/r.log "$OUT/train_cpu_default.log"
   for r in 1 2; do
-    for y in $Y ${BASE_Y:-}; do
-      run "cpu paper recipe, 2 threads pinned, $y, run $r" taskset -c 0,1 $y train-all /tmp/paper.h5 -o /tmp/m_cpup.h5 --threads 2 --recipe paper -q
+    for k in fused general; do
+      YARNHOM_CPU_EPOCH_KERNEL=$k run "cpu paper recipe, 2 threads pinned, epoch kernel $k, run $r" \
+        taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpup.h5 --threads 2 --recipe paper -q
     done
   done
 fi
