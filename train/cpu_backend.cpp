@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/jet_layout.hpp"
+#include "cpu/adam_simd.hpp"
 #include "cpu/epoch_kernel.hpp"
 #include "cpu/flush_denormals.hpp"
 #include "cpu/loss_step.hpp"
@@ -120,8 +121,8 @@ class CpuBackend final : public Backend {
       for (int k = 0; k < K; ++k) offdomain_point<float>(d, okey, k, &n.xo[k * d], &n.no[k * d]);
       cpu::LossBatch<float> batch{m, n.bx.data(), n.by.data(), n.bg.data(), K, n.xo.data(), n.no.data()};
       cpu::LossValues v = loss(n, batch, n.grad.data(), threads);
-      cpu::adam_update<float>(n.params.data(), n.grad.data(), n.m.data(), n.v.data(),
-                              int(n.params.size()), adam, ++n.step);
+      cpu::adam_update_simd(n.params.data(), n.grad.data(), n.m.data(), n.v.data(), int(n.params.size()),
+                            adam, ++n.step);
       st.train.total += v.total;
       st.train.z += v.z;
       st.train.f += v.f;
