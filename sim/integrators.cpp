@@ -31,6 +31,7 @@ void accumulate(NewtonStats& into, const NewtonStats& more) {
   into.energy = more.energy;
   into.step_norm = more.step_norm;
   into.shell_energy = more.shell_energy;
+  into.prescribed_reached = more.prescribed_reached;
 }
 
 // Minimizes with the friction lagged at x_start, then (IPC's lag update) P.friction_updates
@@ -38,7 +39,7 @@ void accumulate(NewtonStats& into, const NewtonStats& more) {
 // from x_start.
 NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                                    StepState& S, const Eigen::VectorXd& x_start, double eps, Eigen::VectorXd& x,
-                                   const NewtonSettings& opt, bool profile) {
+                                   const NewtonSettings& opt, bool profile, const Eigen::VectorXd* target = nullptr) {
   const bool friction = has_friction(P);
   if (friction) {
     S.friction = friction_contacts(P, D.free_index, x_start, x_start);
@@ -50,7 +51,7 @@ NewtonStats minimize_with_friction(const Problem& P, const DofMap& D, const Hess
     S.pair_friction = pair_friction_contacts(P, x_start, y0, x_start, y0, S.contact_cache.get());
     S.friction_eps = eps;
   }
-  NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile);
+  NewtonStats st = newton_minimize(P, D, pat, solver, S, x, opt, profile, target);
   // Lag updates are more solves: the one-solve step (max_iterations 1) keeps the step-start lag.
   const int updates = opt.max_iterations == 1 ? 0 : P.friction_updates;
   for (int k = 0; friction && k < updates && x.allFinite(); ++k) {
@@ -95,12 +96,18 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     S.obstacle_y = y1;
   }
   // Initial guess: the inertial prediction, vertex by vertex outside the colliders
-  // (feasible_prediction); then the prescribed vertices at their targets.
+  // (feasible_prediction); then the prescribed vertices at their targets. With the prescribed
+  // vertices moved within the solve (opt.prescribed_in_solve: the one-solve step), neither start
+  // moves them ahead of the cloth: they stay at x_n there, or take their own h v_n in the
+  // prediction, and newton_minimize moves them to their targets with the cloth's response.
+  const bool in_solve = opt.prescribed_in_solve;
+  const Eigen::VectorXd* solve_target = in_solve ? &target : nullptr;
   Eigen::VectorXd dx = h * v;
-  for (size_t i = 0; i < D.free_index.size(); ++i)
-    if (D.free_index[i] < 0) dx.segment<3>(3 * i).setZero();
+  if (!in_solve)
+    for (size_t i = 0; i < D.free_index.size(); ++i)
+      if (D.free_index[i] < 0) dx.segment<3>(3 * i).setZero();
   Eigen::VectorXd xn = feasible_prediction(P, x, dx);
-  apply_targets(D, target, xn);
+  if (!in_solve) apply_targets(D, target, xn);
   // Newton starts from whichever of the prediction and x_n has the lower incremental potential:
   // the prediction may land where the energy is huge or infinite (a triangle carried past the
   // collapse guard's limit, material/collapse_guard.hpp), and a step that only decreases Phi from
@@ -112,7 +119,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   double t_first = -1;
   {
     Eigen::VectorXd xs = x;
-    apply_targets(D, target, xs);
+    if (!in_solve) apply_targets(D, target, xs);
     double t_s = 1, t_n = 1;
     if (contact) {
       t_s = make_move_safe(P, D.free_index, x, xs, y0, y1, 6, cache);
@@ -142,19 +149,26 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     }
   }
   StepStats out;
+  // A prescribed move cut short (CCD, or an infinite potential on the way) goes on in another
+  // solve from where the last one ended, at most max_stages solves in all.
+  const int stages = obstacles ? std::max(1, obstacles->max_stages) : 8;
   if (!contact) {
-    out.newton = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
-    out.contact_stages = 1;
+    for (int stage = 0; stage < stages; ++stage) {
+      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile, solve_target);
+      if (stage == 0) out.newton = ns;
+      else accumulate(out.newton, ns);
+      ++out.contact_stages;
+      if (ns.prescribed_reached || !xn.allFinite()) break;
+    }
   } else {
     // Stages: move (x_cur -> xn, y_cur -> y1) by what CCD allows, solve, go on from there.
     Eigen::VectorXd xcur = x, ycur = y0;
-    const int stages = obstacles ? std::max(1, obstacles->max_stages) : 8;
     for (int stage = 0; stage < stages; ++stage) {
       // make_move_safe returns contact_step_bound(P, xcur, xn - xcur, ycur, y1 - ycur) of the
       // move it leaves (the same call on the same arguments).
       double t = t_first;
       if (stage > 0) {
-        apply_targets(D, target, xn);
+        if (!in_solve) apply_targets(D, target, xn);
         t = make_move_safe(P, D.free_index, xcur, xn, ycur, y1, 6, cache);
       }
       // ... and by the colliders: a carried vertex must not be moved through a floor.
@@ -175,13 +189,13 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
       } else {
         S.obstacle_y = y1;
       }
-      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile);
+      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile, solve_target);
       if (stage == 0) out.newton = ns;
       else accumulate(out.newton, ns);
       ++out.contact_stages;
       xcur = xn;
       ycur = S.obstacle_y;
-      if (whole || !xn.allFinite()) break;
+      if ((whole && ns.prescribed_reached) || !xn.allFinite()) break;
     }
     if (obstacles) obstacles->y = ycur;
   }
@@ -198,6 +212,7 @@ StepStats linearized_step(const Problem& P, const DofMap& D, const HessianPatter
                           double potential_at_x, ObstacleMotion* obstacles) {
   NewtonSettings one = opt;
   one.max_iterations = 1;
+  one.prescribed_in_solve = true;
   StepStats st = implicit_euler_step(P, D, pat, solver, x, v, target, h, one, profile, hinges, potential_at_x, obstacles);
   st.newton.converged = st.finite;  // one solve by design: nothing to converge
   return st;

@@ -11,7 +11,12 @@
 //   predicted state, and the line search makes it stable: Phi(x_{n+1}) <= Phi(start) <= T_n + E_n,
 //   so no step creates energy, where the unguarded linear step (below) overshoots a soft knit's
 //   curl or shear into collapse at dt = 1/30 s. Colliders and friction act as in the Newton step
-//   (barrier, lagged friction).
+//   (barrier, lagged friction). Its prescribed vertices are not placed at their targets first:
+//   they move within the solve, with the cloth's first-order response (newton_minimize's target,
+//   sim/newton.hpp); a move cut short goes on in another solve (at most max_stages), the rest
+//   lags to the next step. (Placed first, a handle moving 1.5 quads per step left its
+//   neighbours behind, the one solve never caught up, and the fold scene's start went past the
+//   collapse guard: non-finite at step 16.)
 // Contact (sim/contact.hpp: self-collision and obstacles), in both: the move from x_n to
 // Newton's start (the prediction, handles and obstacles moved to their targets) is made safe by
 // make_move_safe (vertices that would pass through cloth stay, those an obstacle would pass

@@ -48,7 +48,8 @@ const char* step_norm_name(StepNorm n) {
 }
 
 NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
-                            StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt, bool profile) {
+                            StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt, bool profile,
+                            const Eigen::VectorXd* target) {
   NewtonStats st;
   Eigen::SparseMatrix<double> H = pat.matrix;
   Eigen::VectorXd grad(x.size());
@@ -59,14 +60,24 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     st.energy = potential_value(P, D, S, x, &st.shell_energy);
     return st;
   }
+  // The prescribed vertices' move within the first iteration (sim/newton.hpp).
+  Eigen::VectorXd move, coupling;
+  if (target) {
+    move = Eigen::VectorXd::Zero(x.size());
+    for (size_t v = 0; v < D.free_index.size(); ++v)
+      if (D.free_index[v] < 0) move.segment<3>(3 * v) = target->segment<3>(3 * v) - x.segment<3>(3 * v);
+    if (!(move.cwiseAbs().maxCoeff() > 0)) move.resize(0);
+    else coupling = Eigen::VectorXd::Zero(x.size());
+  }
   for (int it = 0; it < opt.max_iterations; ++it) {
     auto t0 = Clock::now();
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
     contact.clear();
-    const double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr,
-                                           &st.shell_energy, &contact);
+    const bool lift = it == 0 && move.size() > 0;
+    double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr,
+                                     &st.shell_energy, &contact, lift ? &move : nullptr, lift ? &coupling : nullptr);
     st.energy = E;
-    const Eigen::VectorXd g = gather_free(D, grad);
+    Eigen::VectorXd g = gather_free(D, grad);
     // Contact pairs couple vertices the mesh does not: their triplets are added to the pattern's
     // matrix, whose pattern then grows (the solver analyses a changed pattern again). Every
     // column of the lower-triangular sum starts with its diagonal entry.
@@ -118,7 +129,37 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
         },
         {1e-8, 10, 13, 0.0});
     if (shift.mu > 0) ++st.shifted;
-    if (!shift.ok) break;
+    if (!shift.ok) {
+      if (lift) st.prescribed_reached = false;
+      break;
+    }
+    if (lift) {
+      // The prescribed move with the free vertices' first-order response, as far as CCD and a
+      // finite potential allow; then the gradient where it ends.
+      Eigen::VectorXd m = move;
+      scatter_free(D, -solver.solve(gather_free(D, coupling)), m);
+      double beta = m.allFinite() ? max_feasible_step(P, x, m, &S) : 0.0;
+      Eigen::VectorXd xl;
+      bool moved = false;
+      for (int k = 0; k < 40 && beta > 0; ++k, beta *= 0.5) {
+        xl = x + beta * m;
+        if (std::isfinite(potential_value(P, D, S, xl))) {
+          moved = true;
+          break;
+        }
+      }
+      st.prescribed_reached = moved && beta == 1.0;
+      if (moved) {
+        x = xl;
+        if (st.prescribed_reached)  // exactly on the targets, not to rounding
+          for (size_t v = 0; v < D.free_index.size(); ++v)
+            if (D.free_index[v] < 0) x.segment<3>(3 * v) = target->segment<3>(3 * v);
+        if (!S.theta_ref.empty()) S.theta_ref = hinge_angles(P.mesh, x, &S.theta_ref);
+        E = potential_derivatives(P, D, pat, S, x, grad, nullptr, nullptr, &st.shell_energy);
+        st.energy = E;
+        g = gather_free(D, grad);
+      }
+    }
     const Eigen::VectorXd pf = -solver.solve(g);
     auto t2 = Clock::now();
     st.t_solve += seconds(t1, t2);

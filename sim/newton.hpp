@@ -39,6 +39,9 @@ struct NewtonSettings {
   double tol_step = 0;     // m, the Newton step's size in `norm`; 0: the caller's default
   StepNorm norm = StepNorm::Auto;
   double armijo = 1e-4;
+  // The time step's prescribed vertices: false, placed at their targets before the solve;
+  // true (the one-solve step), moved within it (newton_minimize's target; sim/integrators.hpp).
+  bool prescribed_in_solve = false;
 };
 
 struct NewtonStats {
@@ -52,12 +55,23 @@ struct NewtonStats {
   double shell_energy = NAN;  // E_shell at the returned x (NaN when no pass evaluated it there)
   double t_assemble = 0, t_solve = 0, t_line_search = 0;  // wall seconds
   ShellTimings shell;       // CPU seconds inside the element loop
+  bool prescribed_reached = true;  // with a target: the prescribed vertices ended on it
 };
 
 // Minimizes from x (3n; prescribed vertices already at their targets and kept there). The
 // hinges' branches S.theta_ref (when set) are carried to each accepted iterate.
+//
+// target (optional, 3n): the prescribed vertices start where x has them and move to their
+// targets within the first iteration, as part of its solve (the one-solve step's handles):
+// with d the prescribed move and H the model Hessian at x, the same factorization gives the free
+// vertices' response to it, u = -H_ff^-1 H_fp d (the cloth the handle pulls, to first order),
+// and the whole move (u, d) is taken by the largest fraction in (0, 1] that CCD allows (colliders
+// and contact, 0.9 of the bound when limited) and that keeps the potential finite (halved until
+// it is); from there the step goes on as usual: the gradient there, the Newton step on the same
+// factorization, the line search. A move cut short leaves prescribed_reached false (the caller
+// moves them on in another solve).
 NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPattern& pat, LinearSolver& solver,
                             StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt,
-                            bool profile = false);
+                            bool profile = false, const Eigen::VectorXd* target = nullptr);
 
 }  // namespace yarnhom::sim

@@ -115,10 +115,11 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
 
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values, ShellTimings* timings,
-                             double* shell, std::vector<Eigen::Triplet<double>>* contact) {
+                             double* shell, std::vector<Eigen::Triplet<double>>* contact, const Eigen::VectorXd* move,
+                             Eigen::VectorXd* coupling) {
   grad.setZero(x.size());
   double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
-                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter);
+                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter, move, coupling);
   if (shell) *shell = E;
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;

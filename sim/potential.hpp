@@ -64,10 +64,14 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
 // contact (optional): the contact pairs' Hessian (barrier and friction, lower triangle over the
 // free unknowns) as triplets, which may couple vertices outside the pattern; without it the
 // contact Hessian is left out (the gradient always has it).
+// move, coupling (optional, with values): the shell's model Hessian applied to move, added to
+// coupling (sim/shell_energy.hpp); the per-vertex and contact terms couple no free vertex to a
+// prescribed one in the matrix and add nothing.
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,
                              const Eigen::VectorXd& x, Eigen::VectorXd& grad, double* values,
                              ShellTimings* timings = nullptr, double* shell = nullptr,
-                             std::vector<Eigen::Triplet<double>>* contact = nullptr);
+                             std::vector<Eigen::Triplet<double>>* contact = nullptr,
+                             const Eigen::VectorXd* move = nullptr, Eigen::VectorXd* coupling = nullptr);
 
 // The potential energy's per-vertex part, gravity and colliders (what a static state's
 // potential_value adds to E_shell): O(vertices), so that a step that knows E_shell at its end

@@ -35,6 +35,23 @@ inline double since(Clock::time_point& t0) {
   return s;
 }
 
+// coupling += H_e move_e over the element's nodes (vertices and flaps), where move touches it.
+// Kept out of line: the element loop's code, and so its rounding, stays as it was without it.
+[[gnu::noinline]] void add_coupling(const Mesh& m, int t, const bool fl[3], const Mat18& H, const Eigen::VectorXd& move,
+                                    Eigen::VectorXd& coupling) {
+  Vec18 dq = Vec18::Zero();
+  for (int i = 0; i < 3; ++i) {
+    dq.segment<3>(3 * i) = move.segment<3>(3 * m.tris(t, i));
+    if (fl[i]) dq.segment<3>(9 + 3 * i) = move.segment<3>(3 * m.flaps(t, i));
+  }
+  if (!(dq.cwiseAbs().maxCoeff() > 0)) return;
+  const Vec18 r = H * dq;
+  for (int i = 0; i < 3; ++i) {
+    coupling.segment<3>(3 * m.tris(t, i)) += r.segment<3>(3 * i);
+    if (fl[i]) coupling.segment<3>(3 * m.flaps(t, i)) += r.segment<3>(9 + 3 * i);
+  }
+}
+
 }  // namespace
 
 std::vector<ElementRest> make_element_rests(const Mesh& m) {
@@ -60,13 +77,15 @@ double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const M
 double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
                                 double* values, ShellTimings* timings, HessianModel model, const double* theta_ref,
-                                numerics::EigenFilter filter) {
+                                numerics::EigenFilter filter, const Eigen::VectorXd* move, Eigen::VectorXd* coupling) {
   const bool hess = pattern && values;
+  const bool couple = hess && move && coupling;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
   const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
   // Thread 0 accumulates straight into the outputs; the others into their own arrays.
   std::vector<Eigen::VectorXd> g_local(nthreads - 1, Eigen::VectorXd::Zero(grad.size()));
   std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0, std::vector<double>(nnz, 0.0));
+  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0, Eigen::VectorXd::Zero(grad.size()));
   std::vector<ShellTimings> tim(nthreads);
   double E = 0;
 #pragma omp parallel reduction(+ : E) if (m.num_triangles() >= kParallelElements)
@@ -75,6 +94,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
     Eigen::VectorXd& g = tid == 0 ? grad : g_local[tid - 1];
     double* hv = hess ? (tid == 0 ? values : h_local[tid - 1].data()) : nullptr;
     ShellTimings& tm = tim[tid];
+    Eigen::VectorXd* cp = couple ? (tid == 0 ? coupling : &c_local[tid - 1]) : nullptr;
     auto t0 = Clock::now();
 #pragma omp for schedule(static)
     for (int t = 0; t < m.num_triangles(); ++t) {
@@ -120,11 +140,13 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
         tm.projected += changed;
       }
       add_element_hessian(*pattern, t, H, hv);
+      if (cp) add_coupling(m, t, fl, H, *move, *cp);
       if (timings) tm.scatter += since(t0);
     }
   }
   for (int k = 0; k < nthreads - 1; ++k) {
     grad += g_local[k];
+    if (couple) *coupling += c_local[k];
     if (hess)
       for (size_t i = 0; i < nnz; ++i) values[i] += h_local[k][i];
   }

@@ -45,12 +45,18 @@ double shell_energy(const Mesh& mesh, const std::vector<ElementRest>& rest, cons
 // Value; gradient added to grad (3n, all vertices); if pattern and values are given, the
 // element Hessians added to values (free vertices only), in the given model (Exact: tests
 // compare it with finite differences).
+// move, coupling (optional, with the Hessian): sum over the elements of H_e move_e, the model
+// Hessian applied to a displacement (3n), added to coupling (3n, every vertex). The one-solve
+// step gives it its prescribed vertices' move, so that the free vertices' part, H_fp d_p, is the
+// pull of the handles' move on the cloth in the solve (sim/newton.hpp). Elements the move does
+// not touch are skipped.
 double shell_energy_derivatives(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
                                 const Eigen::VectorXd& x, Eigen::VectorXd& grad, const HessianPattern* pattern,
                                 double* values, ShellTimings* timings = nullptr,
                                 HessianModel model = HessianModel::ProjectedElement,
                                 const double* theta_ref = nullptr,
-                                numerics::EigenFilter filter = numerics::EigenFilter::Clamp);
+                                numerics::EigenFilter filter = numerics::EigenFilter::Clamp,
+                                const Eigen::VectorXd* move = nullptr, Eigen::VectorXd* coupling = nullptr);
 
 // Per-triangle strain at x (for output and tests).
 std::vector<Strain6> triangle_strains(const Mesh& mesh, const std::vector<ElementRest>& rest, const Eigen::VectorXd& x,

@@ -1,7 +1,8 @@
 // The shell energy sum_T A_T Psi(s_T) with a baked material: gradient and (unprojected)
 // Hessian against central differences; rigid motions of the rest shape give zero energy and
 // zero force; a uniform in-plane strain gives zero force at interior vertices (patch test);
-// the PSD projection leaves PSD matrices alone and removes negative eigenvalues.
+// the PSD projection leaves PSD matrices alone and removes negative eigenvalues; the coupling of
+// a prescribed move (the one-solve step's) is the Hessian applied to it.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -135,4 +136,40 @@ TEST(PsdProjection, KeepsPsdMatricesAndClampsNegativeEigenvalues) {
   EXPECT_TRUE(numerics::project_psd(S));
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 18, 18>> e0(S0), e1(S);
   for (int i = 0; i < 18; ++i) EXPECT_NEAR(e1.eigenvalues()[i], std::max(0.0, e0.eigenvalues()[i]), 1e-10);
+}
+
+// The one-solve step's coupling (sim/shell_energy.hpp: H_e applied to the prescribed vertices'
+// move): with the exact Hessian it is the directional derivative of the gradient along the move
+// (central differences), at every vertex; with the projected one, the assembled projected
+// Hessian (every vertex free) times the move.
+TEST(ShellEnergy, CouplingIsTheHessianAppliedToThePrescribedMove) {
+  const Mesh m = make_rectangle(0.04, 0.03, 4, 3);
+  const auto rest = make_element_rests(m);
+  const VectorXd x = deformed(m, 5);
+  std::vector<int> left;
+  for (int j = 0; j <= 3; ++j) left.push_back(rectangle_vertex(4, 0, j));
+  const DofMap D = make_dof_map(m.num_vertices(), left);
+  const HessianPattern pat = make_hessian_pattern(m, D);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1, 1);
+  VectorXd d = VectorXd::Zero(x.size());
+  for (int v : left) d.segment<3>(3 * v) = 1e-3 * Eigen::Vector3d(U(rng), U(rng), U(rng));
+  auto coupling = [&](HessianModel model) {
+    Eigen::SparseMatrix<double> H = pat.matrix;
+    VectorXd g = VectorXd::Zero(x.size()), c = VectorXd::Zero(x.size());
+    shell_energy_derivatives(m, rest, material(), x, g, &pat, H.valuePtr(), nullptr, model, nullptr,
+                             numerics::EigenFilter::Clamp, &d, &c);
+    return c;
+  };
+  auto gradient = [&](const VectorXd& y) {
+    VectorXd g = VectorXd::Zero(y.size());
+    shell_energy_derivatives(m, rest, material(), y, g, nullptr, nullptr);
+    return g;
+  };
+  const double eps = 1e-4;  // along d (1 mm): steps of 0.1 um
+  const VectorXd fd = (gradient(x + eps * d) - gradient(x - eps * d)) / (2 * eps);
+  const VectorXd exact = coupling(HessianModel::Exact);
+  EXPECT_GT(exact.norm(), 0);
+  EXPECT_LT(test::rel_err(exact, fd), 1e-6);
+  EXPECT_LT(test::rel_err(coupling(HessianModel::ProjectedElement), VectorXd(dense_hessian(m, rest, x, true) * d)), 1e-12);
 }
