@@ -141,6 +141,9 @@ void print_report(const PipelineOptions& o, const RunFiles& f, const std::vector
 int run_pipeline(const PipelineOptions& o, const std::vector<std::string>& commands) {
   const auto t_all = std::chrono::steady_clock::now();
   const fs::path run(o.run);
+  if (o.pattern == "synthetic" && o.preset == "tiny")
+    throw std::invalid_argument("--preset tiny: produce's preset (5 / 3 x 3 points, for tests); synth, which 'synthetic' "
+                                "runs, takes quick or paper");
   check_output_folder(o.run);
   if (o.pattern != "synthetic" && fs::exists(o.pattern)) check_input_file(o.pattern, "PATTERN");
   fs::create_directories(run / "logs");
