@@ -34,6 +34,7 @@ void run_study_table5(const Table5Options& o);
 // yarn strip for all; OUT/table4.md and .csv.
 struct BakeResolutionOptions {
   std::string pattern, out, direction = "wale";
+  int reference_res1d = 2000, reference_res2d = 400;  // the reference bake, standing for the network
   AccuracyOptions acc = study_accuracy_defaults();
 };
 void run_study_bake_resolution(const BakeResolutionOptions& o);

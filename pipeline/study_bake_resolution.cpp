@@ -32,13 +32,14 @@ struct Bake {
   const char* label;
   int r1, r2;
 };
-const Bake kBakes[] = {{"Bake-1", 100, 25}, {"Bake-2", 150, 50}, {"Bake-3", 200, 100}, {"network", 2000, 400}};
 
 }  // namespace
 
 void run_study_bake_resolution(const BakeResolutionOptions& o) {
   check_output_folder(o.out);
   const fs::path dir(o.out);
+  const std::array<Bake, 4> bakes = {
+      {{"Bake-1", 100, 25}, {"Bake-2", 150, 50}, {"Bake-3", 200, 100}, {"network", o.reference_res1d, o.reference_res2d}}};
   const std::string name = paper_name(o.pattern);
   AccuracyOptions base = row_test(o.acc, o.pattern, o.direction, dir.string(), "");
   base.strip_dir = (dir / "strip").string();
@@ -74,7 +75,7 @@ void run_study_bake_resolution(const BakeResolutionOptions& o) {
     const int p = g.add(key(produce), "produce (" + o.acc.preset + ")", produce_task_weight(o.acc.preset), {},
                         [&dir, &produce, &o] { run_stage(dir, produce, o.acc.force); });
     const int t = g.add(key(train), "train-all", 10, {p}, [&dir, &train, &o] { run_stage(dir, train, o.acc.force); });
-    for (const Bake& b : kBakes) {
+    for (const Bake& b : bakes) {
       // Its cost grows with its 2D tables (2000 / 400x400: about 13x Bake-3's time, measured).
       const int k = g.add(key(bake(b)), bake(b).name, 0.2 + 0.5 * (b.r2 / 100.0) * (b.r2 / 100.0), {t}, [&dir, &bake, &o, b] { run_stage(dir, bake(b), o.acc.force); });
       add_accuracy_tasks(g, test(b), b.label, {k});
@@ -85,7 +86,7 @@ void run_study_bake_resolution(const BakeResolutionOptions& o) {
   run_stage(dir, train, o.acc.force);
   const auto it = paper_table4().find(name);
   for (size_t k = 0; k < 4; ++k) {
-    const Bake& b = kBakes[k];
+    const Bake& b = bakes[k];
     run_stage(dir, bake(b), o.acc.force);
     const AccuracySummary s = run_accuracy(test(b)).materials[0].summary;
     const std::string paper = it == paper_table4().end() ? "-" : fmt(it->second[k][0]) + " / " + fmt(it->second[k][1]);

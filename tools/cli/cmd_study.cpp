@@ -63,6 +63,14 @@ void add_bake_resolution_options(CLI::App* cmd, pipeline::BakeResolutionOptions&
   add_pattern_argument(cmd, o.pattern, "Pattern file (.pyp) or built-in name");
   add_direction_option(cmd, o.direction)->capture_default_str();
   add_output_option(cmd, o.out, "Output folder (created)");
+  cmd->add_option("--reference-res1d", o.reference_res1d,
+                  "Knots of a 1D table of the reference bake, the row that stands for the unbaked network (fine "
+                  "enough by default; smaller only for a quick check of the command)")
+      ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--reference-res2d", o.reference_res2d, "Knots per axis of a 2D table of the reference bake (as above)")
+      ->check(CLI::Range(2, 10000))
+      ->capture_default_str();
 }
 
 void add_strip_width_options(CLI::App* cmd, pipeline::StripWidthOptions& o) {
