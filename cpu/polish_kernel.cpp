@@ -8,22 +8,13 @@
 #include <stdexcept>
 #include <utility>
 
+#include "cpu/simd_block.hpp"
+
 namespace yarnhom::cpu {
 namespace {
 
-// f(integral_constant<I>) for I = 0..N-1: loops unrolled by the language, so the accumulator
-// arrays below have constant indices and live in registers.
-template <int N, class F>
-inline void unroll(F&& f) {
-  [&]<int... I>(std::integer_sequence<int, I...>) { (f(std::integral_constant<int, I>{}), ...); }(
-      std::make_integer_sequence<int, N>{});
-}
-
-template <class T>
-struct Simd {
-  typedef T V __attribute__((vector_size(64)));  // 16 floats or 8 doubles
-  static constexpr int L = 64 / int(sizeof(T));
-};
+using simd::Simd;
+using simd::unroll;
 
 constexpr int max_of(std::initializer_list<int> l) {
   int m = 0;
