@@ -133,7 +133,12 @@ TEST(Validation, InvalidOptionsAreRefusedNamingThem) {
   expect_refused(produce + "--ranges " + d / "ranges4.txt", {d / "ranges4.txt", "line 1"});
   for (const std::string o : {"--epochs -1", "--threads -1"})
     expect_refused("pipeline synthetic -o " + d / "run " + o, {o.substr(0, o.find(' '))});
+  // produce's tiny preset is not synth's: refused before any work.
+  expect_refused("pipeline synthetic -o " + d / "run --preset tiny", {"--preset tiny", "quick or paper"});
   EXPECT_FALSE(fs::exists(d / "run"));
+  for (const std::string o : {"--reference-res1d 1", "--reference-res2d 1", "--reference-res2d 20000"})
+    expect_refused("study bake-resolution stockinette -o " + d / "t4 " + o, {o.substr(0, o.find(' '))});
+  EXPECT_FALSE(fs::exists(d / "t4"));
   for (const std::string o : {"--tolerance -1", "--tolerance 0", "--tolerance nan", "--max-iterations 0"})
     expect_refused("rve stockinette " + o, {o.substr(0, o.find(' '))});
   expect_refused("error " + f.model + " --samples 0", {"--samples"});
