@@ -74,7 +74,7 @@ const char* stop_text(int s) {
   switch (s) {
     case cuda::kNonFiniteStart: return "non-finite objective at the start";
     case cuda::kZeroGradient: return "zero gradient";
-    case cuda::kNoProgress: return "line search made no progress";
+    case cuda::kNoProgress: return kPolishNoProgress;
     case cuda::kConverged: return "converged (relative decrease below tolerance)";
     default: return "iteration limit";
   }
@@ -101,9 +101,12 @@ bool cuda_polish_supports(const NetworkJob& job, const TrainConfig& cfg, const P
   return cuda::smem_bytes(s, opt.in_double[d == 1 ? 0 : 1]) <= smem_budget();
 }
 
-void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg, const PolishOptions& opt,
-                          const std::vector<int>& which, std::vector<std::vector<float>>& params,
-                          std::vector<PolishResult>& results) {
+namespace {
+
+// One launch: the polishes of `which`, each in its configured precision, or all in double.
+void launch_polish(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg, const PolishOptions& opt,
+                   const std::vector<int>& which, std::vector<std::vector<float>>& params,
+                   std::vector<PolishResult>& results, bool all_double) {
   using cuda::check;
   if (which.empty()) return;
   cuda::require_device();
@@ -133,7 +136,7 @@ void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig
   for (int q = 0; q < J; ++q) {
     const NetworkJob& job = jobs[which[q]];
     const int d = job.desc.input_dim;
-    const bool dbl = opt.in_double[d == 1 ? 0 : 1];
+    const bool dbl = all_double || opt.in_double[d == 1 ? 0 : 1];
     cuda::PolNet& n = nets[q];
     n = cuda::PolNet{};
     n.s = cuda::detail::make_shape(job.desc);
@@ -166,7 +169,7 @@ void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig
     o.p0 = put_bytes(params[which[q]].data(), params[which[q]].size() * sizeof(float));
     smem = std::max(smem, cuda::smem_bytes(n.s, dbl));
     vec_at[q] = vec_doubles;
-    vec_doubles += size_t(cuda::kMaxCluster) * (2 * opt.memory) * n.s.P;
+    vec_doubles += size_t(cuda::kMaxCluster) * (2 * n.memory) * n.s.P;
     loss_at[q] = loss_doubles;
     loss_doubles += 2 * size_t(std::max(1, n.max_iter));
     best_at[q] = best_floats;
@@ -266,6 +269,30 @@ void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig
     r.seconds = sec;
     params[j].assign(best.begin() + best_at[q], best.begin() + best_at[q] + nets[q].s.P);
   }
+}
+
+}  // namespace
+
+void cuda_polish_networks(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg, const PolishOptions& opt,
+                          const std::vector<int>& which, std::vector<std::vector<float>>& params,
+                          std::vector<PolishResult>& results) {
+  if (which.empty()) return;
+  auto in_float = [&](int j) { return !opt.in_double[jobs[j].desc.input_dim == 1 ? 0 : 1]; };
+  std::vector<std::vector<float>> again(params.size());  // the float polishes' starts
+  for (int j : which)
+    if (in_float(j)) again[j] = params[j];
+  launch_polish(jobs, cfg, opt, which, params, results, false);
+  // polish_network's rule: a float polish stalled high runs again in double from its start, in
+  // one more launch, and the one with the lower validation loss is kept.
+  std::vector<int> retry;
+  for (int j : which)
+    if (in_float(j) && polish_stalled_high(results[j], opt) &&
+        cuda::smem_bytes(cuda::detail::make_shape(jobs[j].desc), true) <= smem_budget())
+      retry.push_back(j);
+  if (retry.empty()) return;
+  std::vector<PolishResult> second(results.size());
+  launch_polish(jobs, cfg, opt, retry, again, second, true);
+  for (int j : retry) results[j] = choose_polish_retry(std::move(results[j]), std::move(second[j]), params[j], again[j]);
 }
 
 }  // namespace yarnhom

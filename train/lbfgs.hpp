@@ -28,6 +28,9 @@
 
 namespace yarnhom {
 
+// The stop reason of a line search that found no lower point (PolishResult::stop).
+inline constexpr const char* kLbfgsNoProgress = "line search made no progress";
+
 struct LbfgsOptions {
   int max_iterations = 500;
   int memory = 10;
@@ -180,7 +183,7 @@ inline LbfgsResult lbfgs_minimize(Eigen::VectorXd& x, const LbfgsObjective& fg, 
         a = a_lo;
         eval(a, fa, da);
       } else {
-        res.stop = "line search made no progress";
+        res.stop = kLbfgsNoProgress;
         break;
       }
     }

@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <cmath>
+#include <cstdio>
+#include <string_view>
 #include <type_traits>
 
 #include "core/offdomain.hpp"
@@ -14,6 +16,8 @@
 #include "train/lbfgs.hpp"
 
 namespace yarnhom {
+
+static_assert(std::string_view(kLbfgsNoProgress) == std::string_view(kPolishNoProgress));
 
 namespace {
 
@@ -225,9 +229,39 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
 
 }  // namespace
 
+bool polish_stalled_high(const PolishResult& r, const PolishOptions& opt) {
+  if (!(opt.stall_ratio > 0) || r.iterations == 0 || r.stop != kPolishNoProgress) return false;
+  return r.train_loss.back() > opt.stall_ratio * r.train_start;
+}
+
+PolishResult choose_polish_retry(PolishResult first, PolishResult retry, std::vector<float>& params,
+                                 std::vector<float>& retry_params) {
+  const double seconds = first.seconds + retry.seconds;
+  const bool take = retry.val_end < first.val_end || (!std::isfinite(first.val_end) && std::isfinite(retry.val_end));
+  PolishResult& kept = take ? retry : first;
+  if (take) params.swap(retry_params);
+  char note[200];
+  std::snprintf(note, sizeof note,
+                "; stalled in float at %.3g of the start's loss after %d iterations, retried in double (%d): kept "
+                "the %s run",
+                first.train_loss.back() / first.train_start, first.iterations, retry.iterations,
+                take ? "double" : "float");
+  kept.stop += note;
+  kept.retried = true;
+  kept.seconds = seconds;
+  return std::move(kept);
+}
+
 PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const PolishOptions& opt,
                             std::vector<float>& params) {
-  return opt.in_double[job.desc.input_dim == 1 ? 0 : 1] ? polish_in<double>(job, cfg, opt, params) : polish_in<float>(job, cfg, opt, params);
+  if (opt.in_double[job.desc.input_dim == 1 ? 0 : 1]) return polish_in<double>(job, cfg, opt, params);
+  std::vector<float> again = params;
+  PolishResult r = polish_in<float>(job, cfg, opt, params);
+  if (!polish_stalled_high(r, opt)) return r;
+  // A float polish stuck far above where it started from (a flat region whose decreases are
+  // below the float loss's rounding): the whole polish again in double, from the same start.
+  PolishResult r2 = polish_in<double>(job, cfg, opt, again);
+  return choose_polish_retry(std::move(r), std::move(r2), params, again);
 }
 
 }  // namespace yarnhom

@@ -58,7 +58,20 @@ struct PolishOptions {
   // data have a ridge at II = 0 (docs/training.md, "Rest Hessian"); their rest was stable
   // without it.
   double rest_weight_2d = 0;
+  // > 0: a polish in float whose line search ends ("no progress") with the training loss still
+  // above stall_ratio x its starting loss is run again in double from the same start, and the
+  // run with the lower validation loss is kept. Such a run sits in a flat region where each
+  // step's decrease is below the float loss's rounding (the README demo's term 25 since the
+  // fused epoch kernel: 944 iterations to 0.344, 5.2 % of its start, where from other last bits
+  // of the epochs it reaches 2.6e-5 of it; in double from the same start 1.2e-5, a fit of
+  // 0.41 % of the range); a converged float polish ends at 1e-5 to 3e-4 of its start on the
+  // synthetic and the demo data (docs/training.md, "A float polish that stalls high").
+  double stall_ratio = 3e-3;
 };
+
+// The stop reason of a polish whose line search found no lower point (train/lbfgs.hpp).
+inline constexpr const char* kPolishNoProgress = "line search made no progress";
+
 
 // The weights of the relative fit of points with gradients g [n, d] (normalized units), given
 // G^2 and the normalization constant (both taken from the training points:
@@ -78,7 +91,16 @@ struct PolishResult {
   std::string stop;
   std::vector<double> train_loss, val_loss;  // per iteration
   double seconds = 0;
+  bool retried = false;  // stalled high in float and run again in double (stall_ratio)
 };
+
+// Whether a float polish's result asks for the run in double (PolishOptions::stall_ratio), and
+// the result to keep of the two (the lower validation loss; `params` receives its weights,
+// `retry_params` are the double run's; the stop reason says what happened). The CPU and the GPU
+// polish share these.
+bool polish_stalled_high(const PolishResult& r, const PolishOptions& opt);
+PolishResult choose_polish_retry(PolishResult first, PolishResult retry, std::vector<float>& params,
+                                 std::vector<float>& retry_params);
 
 // Polishes params (the job's network) in place.
 PolishResult polish_network(const NetworkJob& job, const TrainConfig& cfg, const PolishOptions& opt,

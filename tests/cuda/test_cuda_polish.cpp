@@ -168,3 +168,45 @@ TEST(CudaPolish, DefaultPrecisionFitsAsWellAndIsBitIdentical) {
   std::printf("  geometric mean of GPU / CPU final validation loss: %.3f\n", gm);
   EXPECT_LT(gm, 2.0);
 }
+
+// polish_network's retry of a float polish that stalled high (PolishOptions::stall_ratio), on the
+// GPU: with a ratio that calls every stall high, each 2D term whose float polish ended on its
+// line search runs again in double in a second launch, and the run with the lower validation
+// loss is kept, bit for bit the weights of that run alone (float alone: stall_ratio 0; double
+// alone: in_double).
+TEST(CudaPolish, FloatPolishStalledHighRunsAgainInDoubleAsOnTheCpu) {
+  REQUIRE_GPU();
+  PolishOptions po = start().opt.polish;
+  po.iterations = 2500;
+  po.iterations_1d = 20;
+  std::vector<int> which;
+  for (size_t j = 0; j < start().jobs.size(); ++j) which.push_back(int(j));
+  auto run = [&](double ratio, bool dbl, std::vector<std::vector<float>>& p) {
+    PolishOptions o = po;
+    o.stall_ratio = ratio;
+    o.in_double[1] = dbl;
+    p = start().params;
+    std::vector<PolishResult> r(p.size());
+    cuda_polish_networks(start().jobs, start().opt.config, o, which, p, r);
+    return r;
+  };
+  std::vector<std::vector<float>> pf, pb, pr;
+  const std::vector<PolishResult> f = run(0, false, pf), b = run(0, true, pb), r = run(1e-300, false, pr);
+  int retried = 0;
+  for (size_t j = 0; j < f.size(); ++j) {
+    const std::string& name = start().jobs[j].name;
+    if (start().jobs[j].desc.input_dim == 1) {
+      EXPECT_FALSE(r[j].retried) << name << ": the 1D terms are polished in double already";
+      continue;
+    }
+    EXPECT_EQ(r[j].retried, f[j].stop == kPolishNoProgress) << name << ": " << f[j].stop;
+    if (!r[j].retried) continue;
+    ++retried;
+    const bool double_better = b[j].val_end < f[j].val_end;
+    EXPECT_EQ(r[j].val_end, std::min(b[j].val_end, f[j].val_end)) << name;
+    EXPECT_EQ(pr[j], double_better ? pb[j] : pf[j]) << name;
+    EXPECT_NE(r[j].stop.find("retried in double"), std::string::npos) << name << ": " << r[j].stop;
+  }
+  std::printf("  %d of the 9 2D terms retried in double\n", retried);
+  EXPECT_GT(retried, 0);
+}

@@ -257,3 +257,66 @@ TEST(Polish, RestMixedHoldsA2DTermsMixedDerivativeAtRest) {
   EXPECT_GT(std::abs(off - (c - e)), 0.2 * (c - e));
   EXPECT_NEAR(held, c - e, 0.05 * (c - e));
 }
+
+// PolishOptions::stall_ratio: which float polishes run again in double. Only a line search
+// that made no progress with the training loss still above the ratio x its start.
+TEST(Polish, StalledHighRuleAsksForTheDoubleRunOnlyWhenStuckAboveTheRatio) {
+  PolishOptions opt;
+  ASSERT_EQ(opt.stall_ratio, 3e-3);
+  PolishResult r;
+  r.iterations = 944;
+  r.train_start = 6.66;
+  r.train_loss.assign(944, 0.344);  // the README demo's term 25 since the fused epoch kernel
+  r.stop = kPolishNoProgress;
+  EXPECT_TRUE(polish_stalled_high(r, opt));
+  r.train_loss.back() = 1.7e-4;  // the same term from the general kernel's last bits
+  EXPECT_FALSE(polish_stalled_high(r, opt));
+  r.train_loss.back() = 0.344;
+  r.stop = "iteration limit";  // a cap is not a stall
+  EXPECT_FALSE(polish_stalled_high(r, opt));
+  r.stop = kPolishNoProgress;
+  opt.stall_ratio = 0;  // off
+  EXPECT_FALSE(polish_stalled_high(r, opt));
+  opt.stall_ratio = 3e-3;
+  r.iterations = 0;
+  r.train_loss.clear();
+  EXPECT_FALSE(polish_stalled_high(r, opt));
+}
+
+// The retry itself, on a synthetic 2D term: a converged float polish is not retried under the
+// default ratio; with a ratio that calls every stall high, the float polish runs again in
+// double from the same start and the result is the run with the lower validation loss, bit for
+// bit the weights of that run alone (float alone: stall_ratio 0; double alone: in_double).
+TEST(Polish, FloatPolishStalledHighRunsAgainInDoubleAndKeepsTheBetterRun) {
+  const Dataset ds = make_synthetic_dataset("quick");
+  const std::vector<Term> terms = {term_by_name("12")};
+  TrainerOptions opt = recipe_options("default");
+  opt.config.epochs = 30;
+  opt.config.threads = 1;
+  opt.polish.iterations = 2500;
+  auto run = [&](double ratio, bool dbl) {
+    TrainerOptions o = opt;
+    o.polish.stall_ratio = ratio;
+    o.polish.in_double[1] = dbl;
+    auto be = make_backend("cpu");
+    TrainResult r = train_terms(ds, "synthetic", terms, o, *be);
+    EXPECT_TRUE(r.all_ok());
+    return r;
+  };
+  const TrainResult def = run(3e-3, false), single = run(0, false), dbl = run(0, true), forced = run(1e-300, false);
+  const PolishResult &pd = def.polish[0], &pf = single.polish[0], &pb = dbl.polish[0], &pr = forced.polish[0];
+  ASSERT_EQ(pf.stop, kPolishNoProgress) << "the float polish should end on its rounding before the cap";
+  EXPECT_LT(pf.train_loss.back(), 3e-3 * pf.train_start);
+  EXPECT_FALSE(pd.retried);
+  EXPECT_EQ(def.model.networks[0].params, single.model.networks[0].params);
+  EXPECT_FALSE(pb.retried);
+  ASSERT_TRUE(pr.retried);
+  EXPECT_NE(pr.stop.find("retried in double"), std::string::npos) << pr.stop;
+  const bool double_better = pb.val_end < pf.val_end;
+  EXPECT_EQ(pr.val_end, std::min(pb.val_end, pf.val_end));
+  EXPECT_EQ(pr.iterations, double_better ? pb.iterations : pf.iterations);
+  EXPECT_EQ(forced.model.networks[0].params,
+            double_better ? dbl.model.networks[0].params : single.model.networks[0].params);
+  std::printf("float %d it, val %.3g; double %d it, val %.3g; kept the %s run\n", pf.iterations, pf.val_end,
+              pb.iterations, pb.val_end, double_better ? "double" : "float");
+}
