@@ -1,7 +1,9 @@
 #include "numerics/contact_pairs.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace yarnhom::numerics {
@@ -56,30 +58,155 @@ CcdResult contact_ccd(ContactKind kind, const Vec12& q0, const Vec12& q1, double
   return res;
 }
 
-std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std::vector<Box3>& b, bool same) {
+namespace {
+
+// The cells of a uniform grid over `a`'s boxes (origin at their lower corner): box i's cell range
+// [c0, c1] per axis; cell (x, y, z) holds, in increasing order, the boxes whose range contains it
+// (a counting sort: start[cell] .. start[cell + 1] in ids).
+struct DenseGrid {
+  Eigen::Vector3d cell = Eigen::Vector3d::Ones();
+  Eigen::Vector3d origin;
+  std::array<int64_t, 3> n{1, 1, 1};
+  std::vector<std::array<int, 6>> range;  // per box of a: x0 y0 z0 x1 y1 z1 (x1 < x0: not entered)
+  std::vector<int> start, ids;
+
+  int64_t coord(double v, int axis) const {
+    const double c = std::floor((v - origin[axis]) / cell[axis]);
+    return int64_t(std::clamp(c, 0.0, double(n[size_t(axis)] - 1)));
+  }
+  int64_t index(int64_t x, int64_t y, int64_t z) const { return (z * n[1] + y) * n[0] + x; }
+};
+
+bool finite_box(const Box3& x) { return x.lo.allFinite() && x.hi.allFinite(); }
+
+// Cells, per axis, as long as the larger boxes of a along it (the 90th percentile's extent, so
+// one long box does not coarsen the grid for all; per axis, so boxes stretched along one
+// direction -- a falling sheet's moves -- keep cells of a triangle's size across it), no box of
+// a or b spanning more than 8 cells along an axis, and no more cells than about 4 per box of a
+// (for boxes spread far apart: the grid then coarsens, which costs box tests, not results).
+DenseGrid make_grid(const std::vector<Box3>& a, const std::vector<Box3>& b) {
+  DenseGrid g;
+  std::array<std::vector<double>, 3> ext;
+  for (auto& e : ext) e.reserve(a.size());
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Box3& x : a)
+    if (finite_box(x)) {
+      for (int d = 0; d < 3; ++d) ext[size_t(d)].push_back(x.hi[d] - x.lo[d]);
+      lo = lo.cwiseMin(x.lo);
+      hi = hi.cwiseMax(x.hi);
+    }
+  g.range.assign(a.size(), {0, 0, 0, -1, -1, -1});
+  if (ext[0].empty()) {
+    g.start.assign(2, 0);
+    return g;
+  }
+  Eigen::Vector3d cell;
+  for (int d = 0; d < 3; ++d) {
+    std::vector<double>& e = ext[size_t(d)];
+    const size_t k = std::min(e.size() - 1, e.size() * 9 / 10);
+    std::nth_element(e.begin(), e.begin() + k, e.end());
+    cell[d] = std::max(e[k], 1e-9);
+  }
+  for (const std::vector<Box3>* set : {&a, &b})
+    for (const Box3& x : *set)
+      if (finite_box(x)) cell = cell.cwiseMax((x.hi - x.lo) / 8);
+  const double cap = 4.0 * double(a.size()) + 64;
+  const Eigen::Vector3d span = hi - lo;
+  for (;;) {
+    const Eigen::Vector3d cells = (span.array() / cell.array()).floor() + 1;
+    const double total = cells.prod();
+    if (total <= cap) {
+      for (int d = 0; d < 3; ++d) g.n[size_t(d)] = int64_t(cells[d]);
+      break;
+    }
+    cell *= std::max(1.01, std::cbrt(total / cap));
+  }
+  g.cell = cell;
+  g.origin = lo;
+  const size_t ncell = size_t(g.n[0] * g.n[1] * g.n[2]);
+  g.start.assign(ncell + 1, 0);
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!finite_box(a[i])) continue;
+    auto& r = g.range[i];
+    for (int d = 0; d < 3; ++d) {
+      r[size_t(d)] = int(g.coord(a[i].lo[d], d));
+      r[size_t(d) + 3] = int(g.coord(a[i].hi[d], d));
+    }
+    for (int64_t z = r[2]; z <= r[5]; ++z)
+      for (int64_t y = r[1]; y <= r[4]; ++y)
+        for (int64_t x = r[0]; x <= r[3]; ++x) ++g.start[size_t(g.index(x, y, z)) + 1];
+  }
+  for (size_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
+  g.ids.resize(size_t(g.start[ncell]));
+  std::vector<int> fill(g.start.begin(), g.start.end() - 1);
+  for (size_t i = 0; i < a.size(); ++i) {
+    const auto& r = g.range[i];
+    for (int64_t z = r[2]; z <= r[5]; ++z)
+      for (int64_t y = r[1]; y <= r[4]; ++y)
+        for (int64_t x = r[0]; x <= r[3]; ++x) g.ids[size_t(fill[size_t(g.index(x, y, z))]++)] = int(i);
+  }
+  return g;
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std::vector<Box3>& b, bool same,
+                                           const std::function<bool(int, int)>& keep) {
   std::vector<std::pair<int, int>> out;
   if (a.empty() || b.empty()) return out;
-  // Cells at least as large as the larger boxes (the 90th percentile's double, so one long box
-  // does not coarsen the grid for all): a box then touches few cells.
-  std::vector<double> ext;
-  ext.reserve(a.size());
-  for (const Box3& x : a) ext.push_back((x.hi - x.lo).maxCoeff());
-  const size_t k = std::min(ext.size() - 1, ext.size() * 9 / 10);
-  std::nth_element(ext.begin(), ext.begin() + k, ext.end());
-  double cell = std::max(2 * ext[k], 1e-9);
-  // ... and no box spans more than 8 cells per axis.
-  for (const Box3& x : a) cell = std::max(cell, (x.hi - x.lo).maxCoeff() / 8);
-  for (const Box3& x : b) cell = std::max(cell, (x.hi - x.lo).maxCoeff() / 8);
-  SpatialHash grid(cell, a.size());
-  for (size_t i = 0; i < a.size(); ++i) grid.insert(int(i), a[i].lo, a[i].hi);
-  // (same: only i < j, by the hash's sorted cells: half the scan, the same pairs in the same order)
-  for (size_t j = 0; j < b.size(); ++j)
-    grid.query(
-        b[j].lo, b[j].hi,
-        [&](int i) {
-          if (a[i].overlaps(b[j])) out.emplace_back(i, int(j));
-        },
-        same ? int(j) : INT32_MAX);
+  const DenseGrid g = make_grid(a, b);
+  // Boxes with a coordinate that is not finite (an infinite box overlaps others, a NaN box
+  // none) are tested against all boxes of the other set.
+  std::vector<int> odd_a;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!finite_box(a[i])) odd_a.push_back(int(i));
+  // Queries: b's boxes in chunks, a fixed number per chunk whatever the thread count, each chunk's
+  // pairs in their own list, the lists joined in order: the same result for any thread count.
+  // A pair is reported once, from the first cell both boxes' ranges share (per axis the larger
+  // of their first cells); each box's pairs are sorted by i.
+  constexpr int kChunk = 2048;
+  const int nb = int(b.size()), nchunks = (nb + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::pair<int, int>>> part(static_cast<size_t>(nchunks));
+#pragma omp parallel for schedule(dynamic, 1) if (nb >= 2 * kChunk)
+  for (int c = 0; c < nchunks; ++c) {
+    std::vector<std::pair<int, int>>& o = part[size_t(c)];
+    std::vector<int> hit;
+    for (int j = c * kChunk; j < std::min(nb, (c + 1) * kChunk); ++j) {
+      const Box3& q = b[size_t(j)];
+      const int below = same ? j : INT32_MAX;
+      hit.clear();
+      if (finite_box(q)) {
+        int64_t r[6];
+        for (int d = 0; d < 3; ++d) r[d] = g.coord(q.lo[d], d), r[d + 3] = g.coord(q.hi[d], d);
+        for (int64_t z = r[2]; z <= r[5]; ++z)
+          for (int64_t y = r[1]; y <= r[4]; ++y)
+            for (int64_t x = r[0]; x <= r[3]; ++x) {
+              const size_t cell = size_t(g.index(x, y, z));
+              for (int k = g.start[cell]; k < g.start[cell + 1]; ++k) {
+                const int i = g.ids[size_t(k)];
+                if (i >= below) break;
+                const auto& ri = g.range[size_t(i)];
+                if (std::max<int64_t>(ri[0], r[0]) != x || std::max<int64_t>(ri[1], r[1]) != y ||
+                    std::max<int64_t>(ri[2], r[2]) != z)
+                  continue;  // reported from another cell
+                if (a[size_t(i)].overlaps(q)) hit.push_back(i);
+              }
+            }
+        for (int i : odd_a)
+          if (i < below && a[size_t(i)].overlaps(q)) hit.push_back(i);
+      } else {
+        for (int i = 0; i < std::min<int>(int(a.size()), below); ++i)
+          if (a[size_t(i)].overlaps(q)) hit.push_back(i);
+      }
+      std::sort(hit.begin(), hit.end());
+      for (int i : hit)
+        if (!keep || keep(i, j)) o.emplace_back(i, j);
+    }
+  }
+  size_t total = 0;
+  for (const auto& p : part) total += p.size();
+  out.reserve(total);
+  for (const auto& p : part) out.insert(out.end(), p.begin(), p.end());
   return out;
 }
 

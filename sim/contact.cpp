@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <string>
@@ -112,52 +113,75 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
   return E;
 }
 
+namespace {
+
+// One pair's CCD bound over the move (x0 -> x1, y0 -> y1) (contact_step_bound below), its hits
+// appended to hits when the bound is below 1.
+double pair_step_bound(const Problem& P, const ContactPair& c, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
+                       const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, std::vector<ContactHit>* hits) {
+  const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
+  if (q0 == q1) return 1.0;
+  numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, kContactEta);
+  // A moving obstacle never comes closer than dmin + dhat / 10 to the cloth on its own: with
+  // the cloth pinched against something fixed, the bound above would let it close 90 % of the
+  // gap stage after stage, down to rounding (and through). Within that, it may only move
+  // where the pair's distance does not shrink (checked at the fractions a stage may take).
+  bool moving = false;
+  for (int k = 0; k < 4; ++k) moving = moving || (c.slot[k] < 0 && q0.segment<3>(3 * k) != q1.segment<3>(3 * k));
+  if (moving && r.t > 0) {
+    const double floor = c.dmin + kObstacleFloor * P.dhat;
+    if (r.d0 > floor) {
+      r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, kContactEta).t);
+    } else {  // (less rounding: a vertex carried along keeps its distance)
+      for (double s : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
+        if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat) {
+          r.t = 0;
+          break;
+        }
+    }
+  }
+  if (!(r.t < 1)) return 1.0;
+  if (!hits) return r.t;
+  ContactHit h;
+  int n = 0;
+  for (int k = 0; k < 4; ++k)
+    if (c.slot[k] < 0) h.carry += q1.segment<3>(3 * k) - q0.segment<3>(3 * k), ++n;
+  h.obstacle = n > 0;
+  if (n) h.carry /= n;
+  for (int s : c.slot)
+    if (s >= 0) {
+      h.vertex = s;
+      hits->push_back(h);
+    }
+  return r.t;
+}
+
+}  // namespace
+
 double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
                           const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits,
                           ContactCache* cache) {
   if (!has_contact(P)) return 1.0;
   if (!(dx.cwiseAbs().maxCoeff() > 0) && !(dy.size() && dy.cwiseAbs().maxCoeff() > 0)) return 1.0;  // no move
   const Eigen::VectorXd x1 = x0 + dx, y1 = y0 + dy;
-  double t = 1.0;
   // The cache leaves out pairs shown to give t = 1 below.
-  for (const ContactPair& c : cache ? cache->ccd_candidates(P, x0, x1, y0, y1) : contact_candidates(P, x0, x1, y0, y1)) {
-    const Vec12 q0 = pair_coordinates(c, x0, y0), q1 = pair_coordinates(c, x1, y1);
-    if (q0 == q1) continue;
-    numerics::CcdResult r = numerics::contact_ccd(c.kind, q0, q1, c.dmin, kContactEta);
-    // A moving obstacle never comes closer than dmin + dhat / 10 to the cloth on its own: with
-    // the cloth pinched against something fixed, the bound above would let it close 90 % of the
-    // gap stage after stage, down to rounding (and through). Within that, it may only move
-    // where the pair's distance does not shrink (checked at the fractions a stage may take).
-    bool moving = false;
-    for (int k = 0; k < 4; ++k) moving = moving || (c.slot[k] < 0 && q0.segment<3>(3 * k) != q1.segment<3>(3 * k));
-    if (moving && r.t > 0) {
-      const double floor = c.dmin + kObstacleFloor * P.dhat;
-      if (r.d0 > floor) {
-        r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, kContactEta).t);
-      } else {  // (less rounding: a vertex carried along keeps its distance)
-        for (double s : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
-          if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat) {
-            r.t = 0;
-            break;
-          }
-      }
-    }
-    if (!(r.t < 1)) continue;
-    t = std::min(t, r.t);
-    if (!hits) continue;
-    ContactHit h;
-    int n = 0;
-    for (int k = 0; k < 4; ++k)
-      if (c.slot[k] < 0) h.carry += q1.segment<3>(3 * k) - q0.segment<3>(3 * k), ++n;
-    h.obstacle = n > 0;
-    if (n) h.carry /= n;
-    for (int s : c.slot)
-      if (s >= 0) {
-        h.vertex = s;
-        hits->push_back(h);
-      }
-  }
-  return t;
+  const std::vector<ContactPair> pairs =
+      cache ? cache->ccd_candidates(P, x0, x1, y0, y1) : contact_candidates(P, x0, x1, y0, y1);
+  // The pairs in fixed chunks on the OpenMP threads, each chunk's hits in its own list, joined in
+  // order (the bound is a minimum): the result does not depend on the thread count.
+  constexpr size_t kChunk = 256;
+  const int64_t nchunks = int64_t((pairs.size() + kChunk - 1) / kChunk);
+  std::vector<double> t(static_cast<size_t>(nchunks), 1.0);
+  std::vector<std::vector<ContactHit>> part(hits ? static_cast<size_t>(nchunks) : 0);
+#pragma omp parallel for schedule(dynamic, 1) if (nchunks > 1)
+  for (int64_t c = 0; c < nchunks; ++c)
+    for (size_t k = size_t(c) * kChunk; k < std::min(pairs.size(), size_t(c + 1) * kChunk); ++k)
+      t[size_t(c)] = std::min(t[size_t(c)], pair_step_bound(P, pairs[k], x0, x1, y0, y1, hits ? &part[size_t(c)] : nullptr));
+  if (hits)
+    for (const auto& h : part) hits->insert(hits->end(), h.begin(), h.end());
+  double bound = 1.0;
+  for (double tc : t) bound = std::min(bound, tc);
+  return bound;
 }
 
 double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
@@ -266,11 +290,13 @@ bool contact_intersections(const Problem& P, const Eigen::VectorXd& x, const Eig
   std::vector<Box3> tb(nt);
   for (int t = 0; t < nt; ++t) tb[t] = move_box(Eigen::Vector3i(m.tris.row(t).transpose()), 3, x, x, 0.0);
   auto tri = [&](int t, int i) { return at(x, m.tris(t, i)); };
-  for (const auto& [a, b] : numerics::box_pairs(tb, tb, true)) {
-    bool adjacent = false;
+  const auto apart = [&](int a, int b) {
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) adjacent = adjacent || vertex_rep(P, m.tris(a, i)) == vertex_rep(P, m.tris(b, j));
-    if (adjacent) continue;
+      for (int j = 0; j < 3; ++j)
+        if (vertex_rep(P, m.tris(a, i)) == vertex_rep(P, m.tris(b, j))) return false;
+    return true;
+  };
+  for (const auto& [a, b] : numerics::box_pairs(tb, tb, true, apart)) {
     if (numerics::triangles_intersect(tri(a, 0), tri(a, 1), tri(a, 2), tri(b, 0), tri(b, 1), tri(b, 2))) {
       if (what) *what = "cloth triangles " + std::to_string(a) + " and " + std::to_string(b) + " intersect";
       return true;

@@ -1,6 +1,7 @@
 #include "sim/contact_broad_phase.hpp"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "numerics/contact_pairs.hpp"
 #include "sim/contact.hpp"
@@ -81,28 +82,34 @@ bool shares(const Problem& P, const Eigen::Vector3i& t, int v) {
   return vertex_rep(P, t[0]) == r || vertex_rep(P, t[1]) == r || vertex_rep(P, t[2]) == r;
 }
 
-// Calls emit(group, i, j) for every pair of overlapping boxes (less those sharing a vertex), in
-// the fresh broad phase's order, or (any_order) with the obstacles' few primitives in the hash
-// and the cloth's many querying it: the same pairs, without hashing every cloth triangle and
-// edge again for a handful of capsules.
+// Calls emit(group, i, j) for every pair of overlapping boxes (less those sharing a vertex), by
+// group, then j, then i (box_pairs' order); with any_order the obstacles' few primitives go in
+// the grid and the cloth's many query it (the same pairs, sorted back into that order), without
+// entering every cloth triangle and edge again for a handful of capsules.
 template <class Fn>
 void box_candidates(const Problem& P, const PrimBoxes& B, Fn&& emit, bool any_order = false) {
   const Mesh& m = P.mesh;
   if (P.self_collision) {
-    for (const auto& [t, v] : numerics::box_pairs(B.t, B.v))
-      if (!shares(P, tri(m, t), v)) emit(SelfPT, t, v);
-    for (const auto& [a, b] : numerics::box_pairs(B.e, B.e, true)) {
+    // (the pairs sharing a vertex left out as they are found: most of a sheet's overlapping
+    // edge boxes are a vertex's edges)
+    for (const auto& [t, v] : numerics::box_pairs(B.t, B.v, false, [&](int t, int v) { return !shares(P, tri(m, t), v); }))
+      emit(SelfPT, t, v);
+    const auto apart = [&](int a, int b) {
       const Eigen::Vector2i &ea = P.edges[a], &e2 = P.edges[b];
       const int a0 = vertex_rep(P, ea[0]), a1 = vertex_rep(P, ea[1]), b0 = vertex_rep(P, e2[0]), b1 = vertex_rep(P, e2[1]);
-      if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-      emit(SelfEE, a, b);
-    }
+      return !(a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1);
+    };
+    for (const auto& [a, b] : numerics::box_pairs(B.e, B.e, true, apart)) emit(SelfEE, a, b);
   }
   if (P.obstacles.empty()) return;
   for (const auto& [t, v] : numerics::box_pairs(B.ot, B.v)) emit(ObstacleTriVertex, t, v);
   if (any_order) {
-    for (const auto& [k, t] : numerics::box_pairs(B.op, B.t)) emit(TriObstaclePoint, t, k);
-    for (const auto& [f, e] : numerics::box_pairs(B.oe, B.e)) emit(EdgeObstacleEdge, e, f);
+    // (sorted back into the fresh order: by the obstacle's primitive, then the cloth's)
+    std::vector<std::pair<int, int>> tk = numerics::box_pairs(B.op, B.t), ef = numerics::box_pairs(B.oe, B.e);
+    std::sort(tk.begin(), tk.end());
+    std::sort(ef.begin(), ef.end());
+    for (const auto& [k, t] : tk) emit(TriObstaclePoint, t, k);
+    for (const auto& [f, e] : ef) emit(EdgeObstacleEdge, e, f);
     return;
   }
   for (const auto& [t, k] : numerics::box_pairs(B.t, B.op)) emit(TriObstaclePoint, t, k);
@@ -232,26 +239,45 @@ bool has_obstacle_point(const ContactPair& c) {
 
 }  // namespace
 
+namespace {
+
+// Runs keep(k, out) for the entries k in [0, n), in fixed chunks on the OpenMP threads (each
+// chunk's pairs in its own list, the lists joined in order: the result does not depend on the
+// thread count); keep returns 1 when it computed a distance. Returns their count.
+template <class Keep>
+long entries_in_chunks(size_t n, std::vector<ContactPair>& out, Keep&& keep) {
+  constexpr size_t kChunk = 4096;
+  const int64_t nchunks = int64_t((n + kChunk - 1) / kChunk);
+  std::vector<std::vector<ContactPair>> part(static_cast<size_t>(nchunks));
+  long distances = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : distances) if (nchunks > 1)
+  for (int64_t c = 0; c < nchunks; ++c)
+    for (size_t k = size_t(c) * kChunk; k < std::min(n, size_t(c + 1) * kChunk); ++k) distances += keep(k, part[size_t(c)]);
+  for (const auto& p : part) out.insert(out.end(), p.begin(), p.end());
+  return distances;
+}
+
+}  // namespace
+
 std::vector<ContactPair> ContactCache::near(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   cover(P, x, x, y, y);
   const double m = 1e-4 * P.dhat, need = P.dhat + m;
   Eigen::VectorXd dx, dy;
   if (snapped_) dx = x - sx_, dy = y - sy_;
   std::vector<ContactPair> out;
-  for (size_t k = 0; k < entries_.size(); ++k) {
+  distances_ += entries_in_chunks(entries_.size(), out, [&](size_t k, std::vector<ContactPair>& o) {
     const Entry& e = entries_[k];
     if (snapped_) {
       const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
       if (g >= need) {
         gap_[k] = g;
-        continue;
+        return 0;
       }
     }
     gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x, y)) - e.pair.dmin;
-    ++distances_;
-    if (gap_[k] >= need || !entry_overlaps(P, e, x, x, y, y)) continue;
-    out.push_back(e.pair);
-  }
+    if (gap_[k] < need && entry_overlaps(P, e, x, x, y, y)) o.push_back(e.pair);
+    return 1;
+  });
   sx_ = x;
   sy_ = y;
   snapped_ = true;
@@ -267,7 +293,7 @@ std::vector<ContactPair> ContactCache::ccd_candidates(const Problem& P, const Ei
   if (snapped_) dx = x0 - sx_, dy = y0 - sy_;
   const Eigen::VectorXd mx = x1 - x0, my = y1 - y0;
   std::vector<ContactPair> out;
-  for (size_t k = 0; k < entries_.size(); ++k) {
+  distances_ += entries_in_chunks(entries_.size(), out, [&](size_t k, std::vector<ContactPair>& o) {
     const Entry& e = entries_[k];
     const double f = has_obstacle_point(e.pair) ? kObstacleFloor * P.dhat : 0.0;
     const double l = numerics::contact_speed(e.pair.kind, pair_move(e.pair, mx, my));
@@ -276,14 +302,13 @@ std::vector<ContactPair> ContactCache::ccd_candidates(const Problem& P, const Ei
       const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
       if (safe(g)) {
         gap_[k] = g;
-        continue;
+        return 0;
       }
     }
     gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x0, y0)) - e.pair.dmin;
-    ++distances_;
-    if (safe(gap_[k]) || !entry_overlaps(P, e, x0, x1, y0, y1)) continue;
-    out.push_back(e.pair);
-  }
+    if (!safe(gap_[k]) && entry_overlaps(P, e, x0, x1, y0, y1)) o.push_back(e.pair);
+    return 1;
+  });
   sx_ = x0;
   sy_ = y0;
   snapped_ = true;

@@ -17,9 +17,9 @@
 // each primitive, a move box inside the primitive's region box (inflation equal), so every
 // pair whose move boxes overlap is among the region's pairs; the query keeps those of them
 // whose move boxes overlap, by the same floating-point test as the fresh broad phase. The
-// result is therefore the fresh broad phase's pair set exactly (the order may differ: the
-// region's hash order, with the obstacles' primitives hashed and the cloth's querying), and in
-// particular the same pairs within d_min + dhat. A query that is not covered rebuilds the
+// result is therefore the fresh broad phase's pairs exactly, in the same order (by group, then
+// the two primitives' indices: numerics::box_pairs sorts its pairs, so the order depends on
+// neither the region nor the grid's cells), and in particular the same pairs within d_min + dhat. A query that is not covered rebuilds the
 // region over its own move, grown by a margin (dhat / 10). In a step,
 // one region over x_n -> the prediction serves the step start, the friction lag and the Newton
 // matrix, and one over x -> x + p (the CCD of the Newton step) serves every line-search trial

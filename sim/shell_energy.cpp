@@ -2,7 +2,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
+#include <cstdint>
 
 #include "sim/inplane_strain.hpp"
 #include "numerics/psd_projection.hpp"
@@ -81,18 +84,41 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
   const bool hess = pattern && values;
   const bool couple = hess && move && coupling;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
-  const size_t nnz = hess ? size_t(pattern->matrix.nonZeros()) : 0;
-  // Thread 0 accumulates straight into the outputs; the others into their own arrays.
-  std::vector<Eigen::VectorXd> g_local(nthreads - 1, Eigen::VectorXd::Zero(grad.size()));
-  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0, std::vector<double>(nnz, 0.0));
-  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0, Eigen::VectorXd::Zero(grad.size()));
+  // Thread 0 accumulates straight into the outputs; the others into their own arrays. A
+  // thread's Hessian array spans only the value slots its triangles write (the static schedule's
+  // contiguous block of triangles: a band of the matrix), set up by the thread itself; thread k
+  // holds slots [h_lo[k], h_lo[k] + h_local[k].size()).
+  std::vector<Eigen::VectorXd> g_local(nthreads - 1);
+  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0);
+  std::vector<size_t> h_lo(h_local.size(), 0);
+  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0);
   std::vector<ShellTimings> tim(nthreads);
   double E = 0;
 #pragma omp parallel reduction(+ : E) if (m.num_triangles() >= kParallelElements)
   {
     const int tid = omp_get_thread_num();
+    if (tid > 0) {
+      g_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
+      if (couple) c_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
+    }
+    if (hess && tid > 0) {
+      // (the same static schedule as the element loop below: the same triangles)
+      int lo = INT32_MAX, hi = -1;
+#pragma omp for schedule(static) nowait
+      for (int t = 0; t < m.num_triangles(); ++t)
+        for (int k = 0; k < 108; ++k) {
+          const int sl = pattern->elem_slots[size_t(t) * 108 + size_t(k)];
+          if (sl < 0) continue;
+          lo = std::min(lo, sl);
+          hi = std::max(hi, sl + 2);  // a column's slots: the first stored row and (at most) two below
+        }
+      if (hi >= lo) {
+        h_lo[tid - 1] = size_t(lo);
+        h_local[tid - 1].assign(size_t(hi - lo + 1), 0.0);
+      }
+    }
     Eigen::VectorXd& g = tid == 0 ? grad : g_local[tid - 1];
-    double* hv = hess ? (tid == 0 ? values : h_local[tid - 1].data()) : nullptr;
+    double* hv = hess ? (tid == 0 ? values : h_local[tid - 1].data() - h_lo[tid - 1]) : nullptr;
     ShellTimings& tm = tim[tid];
     Eigen::VectorXd* cp = couple ? (tid == 0 ? coupling : &c_local[tid - 1]) : nullptr;
     auto t0 = Clock::now();
@@ -147,8 +173,18 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
   for (int k = 0; k < nthreads - 1; ++k) {
     grad += g_local[k];
     if (couple) *coupling += c_local[k];
-    if (hess)
-      for (size_t i = 0; i < nnz; ++i) values[i] += h_local[k][i];
+  }
+  // The threads' Hessian bands added slot by slot, thread 1 first (each slot's sum in the same
+  // order as one thread after another; a slot outside a band would add 0), the slots spread
+  // over the threads.
+  if (hess && !h_local.empty()) {
+    const int64_t nnz = int64_t(pattern->matrix.nonZeros());
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < nnz; ++i)
+      for (size_t k = 0; k < h_local.size(); ++k) {
+        const int64_t j = i - int64_t(h_lo[k]);
+        if (j >= 0 && j < int64_t(h_local[k].size())) values[i] += h_local[k][size_t(j)];
+      }
   }
   if (timings) {
     for (const ShellTimings& tm : tim) *timings += tm;  // per-thread elements are 0: counted below

@@ -1,11 +1,14 @@
 // Point-triangle and edge-edge contact: the point-triangle distance against a brute-force
 // minimum and every type's exact gradient and Hessian against central differences; the
 // contact barrier's derivatives; CCD's safe fraction (never closer than its target on [0, t],
-// exact on a head-on approach); the broad phase against all pairs; the exact triangle-triangle
+// exact on a head-on approach); the broad phase against all pairs (and their order); the exact triangle-triangle
 // intersection test on hand-made and random cases.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <limits>
 #include <random>
 
 #include "numerics/contact_pairs.hpp"
@@ -135,24 +138,44 @@ TEST(ContactDistance, CcdNeverClosesMoreThanItsShareOfTheGap) {
   EXPECT_NEAR(contact_ccd(ContactKind::PointTriangle, q0, q1, 0.0, 0.1).t, 0.45, 1e-12);
 }
 
-TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairs) {
+TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairsInOrder) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> U(0, 1);
+  // 5,000 boxes (enough for the queries' parallel chunks), a few long ones, a cluster far away
+  // (the grid coarsens), boxes touching exactly, and boxes with infinite or NaN coordinates.
   std::vector<Box3> a, b;
-  for (int i = 0; i < 300; ++i) {
-    const V c(U(rng), U(rng), U(rng));
-    a.push_back(points_box(0.01 + 0.05 * U(rng), c));
-    b.push_back(points_box(0.0, c, V(c + V(U(rng), U(rng), U(rng)) * (i % 50 == 0 ? 0.5 : 0.03))));
+  for (int i = 0; i < 5000; ++i) {
+    const V c = V(U(rng), U(rng), 0.1 * U(rng)) + (i % 97 == 0 ? V(40, -30, 20) : V::Zero());
+    a.push_back(points_box(0.002 + 0.01 * U(rng), c));
+    b.push_back(points_box(0.0, c, V(c + V(U(rng), U(rng), U(rng)) * (i % 500 == 0 ? 0.5 : 0.01))));
   }
+  b[7] = {a[3].hi, a[3].hi + V(1e-3, 1e-3, 1e-3)};  // touches a[3] at a corner: a pair (closed)
+  const double inf = std::numeric_limits<double>::infinity();
+  a[11].lo[0] = a[11].lo[2] = -inf;  // a slab across x and z
+  a[11].hi[0] = a[11].hi[2] = inf;
+  a[12].lo[1] = std::numeric_limits<double>::quiet_NaN();
+  b[13].lo[2] = -inf;
+  b[14].hi[0] = std::numeric_limits<double>::quiet_NaN();
+  const int saved = omp_get_max_threads();
   for (bool same : {false, true}) {
     const std::vector<Box3>& bb = same ? a : b;
-    auto got = box_pairs(a, bb, same);
-    std::sort(got.begin(), got.end());
-    std::vector<std::pair<int, int>> ref;
-    for (int i = 0; i < 300; ++i)
-      for (int j = 0; j < 300; ++j)
-        if ((!same || i < j) && a[i].overlaps(bb[j])) ref.emplace_back(i, j);
-    EXPECT_EQ(got, ref);
+    omp_set_num_threads(3);  // the queries' chunks on 3 threads, then on one: the same list
+    const auto got = box_pairs(a, bb, same);
+    omp_set_num_threads(1);
+    EXPECT_EQ(box_pairs(a, bb, same), got);
+    omp_set_num_threads(saved);
+    std::vector<std::pair<int, int>> ref;  // by j, then i
+    for (int j = 0; j < int(bb.size()); ++j)
+      for (int i = 0; i < (same ? j : int(a.size())); ++i)
+        if (a[i].overlaps(bb[j])) ref.emplace_back(i, j);
+    EXPECT_GT(ref.size(), 2000u);
+    EXPECT_EQ(got, ref) << same;
+    if (!same) {
+      EXPECT_TRUE(std::find(got.begin(), got.end(), std::make_pair(3, 7)) != got.end());
+    }
+    int with_infinite = 0;
+    for (const auto& [i, j] : got) with_infinite += i == 11 || (!same && j == 13);
+    EXPECT_GT(with_infinite, 10);
   }
 }
 

@@ -4,6 +4,7 @@
 // the PSD projection leaves PSD matrices alone and removes negative eigenvalues; the coupling of
 // a prescribed move (the one-solve step's) is the Hessian applied to it.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -172,4 +173,37 @@ TEST(ShellEnergy, CouplingIsTheHessianAppliedToThePrescribedMove) {
   EXPECT_GT(exact.norm(), 0);
   EXPECT_LT(test::rel_err(exact, fd), 1e-6);
   EXPECT_LT(test::rel_err(coupling(HessianModel::ProjectedElement), VectorXd(dense_hessian(m, rest, x, true) * d)), 1e-12);
+}
+
+// The element loop's threads add their Hessian bands into the matrix slot by slot
+// (sim/shell_energy.cpp): on any thread count the gradient and every matrix entry are the one
+// thread's up to the order of the sums (a band that missed a slot would lose a contribution).
+TEST(ShellEnergy, AssemblyOnAnyThreadCountIsTheOneThreadsToRounding) {
+  const Mesh m = make_rectangle(0.3, 0.25, 30, 25);  // 1,500 triangles: the loop runs threaded
+  ASSERT_GE(m.num_triangles(), 1024);
+  const auto rest = make_element_rests(m);
+  const VectorXd x = deformed(m, 9);
+  std::vector<int> held;
+  for (int j = 0; j <= 25; ++j) held.push_back(rectangle_vertex(30, 0, j));
+  const DofMap D = make_dof_map(m.num_vertices(), held);
+  const HessianPattern pat = make_hessian_pattern(m, D);
+  const int saved = omp_get_max_threads();
+  auto assemble = [&](int threads, VectorXd& g) {
+    omp_set_num_threads(threads);
+    Eigen::SparseMatrix<double> H = pat.matrix;
+    g = VectorXd::Zero(x.size());
+    shell_energy_derivatives(m, rest, material(), x, g, &pat, H.valuePtr(), nullptr);
+    omp_set_num_threads(saved);
+    return H;
+  };
+  VectorXd g1;
+  const Eigen::SparseMatrix<double> H1 = assemble(1, g1);
+  const double scale = H1.coeffs().cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0);
+  for (int threads : {2, 3, 7}) {
+    VectorXd g;
+    const Eigen::SparseMatrix<double> H = assemble(threads, g);
+    EXPECT_LT((H.coeffs() - H1.coeffs()).cwiseAbs().maxCoeff(), 1e-12 * scale) << threads;
+    EXPECT_LT((g - g1).cwiseAbs().maxCoeff(), 1e-12 * g1.cwiseAbs().maxCoeff()) << threads;
+  }
 }
