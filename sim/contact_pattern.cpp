@@ -44,4 +44,57 @@ Eigen::SparseMatrix<double>& PaddedPattern::embed(const Eigen::SparseMatrix<doub
   return M_;
 }
 
+Eigen::SparseMatrix<double>& PaddedPattern::embed_sum(const Eigen::SparseMatrix<double>& H,
+                                                      const Eigen::SparseMatrix<double>& C, const Pad& pad) {
+  const bool fits = M_.rows() == H.rows() && M_.cols() == H.cols() && C.rows() == H.rows() && C.cols() == H.cols();
+  if (fits) {
+    const Eigen::SparseMatrix<double> Cc = C.isCompressed() ? Eigen::SparseMatrix<double>() : Eigen::SparseMatrix<double>(C);
+    const Eigen::SparseMatrix<double>& B = C.isCompressed() ? C : Cc;
+    const int* mo = M_.outerIndexPtr();
+    const int* mi = M_.innerIndexPtr();
+    double* mv = M_.valuePtr();
+    const int *ho = H.outerIndexPtr(), *hi = H.innerIndexPtr(), *bo = B.outerIndexPtr(), *bi = B.innerIndexPtr();
+    const double *hv = H.valuePtr(), *bv = B.valuePtr();
+    const Eigen::Index ncols = H.outerSize();
+    int outside = 0;
+    // Per column: H's and C's sorted entries merged (as Eigen's sum does), then placed on M_'s
+    // sorted column, zeros between.
+#pragma omp parallel for schedule(static) reduction(+ : outside) if (ncols >= 3072)
+    for (Eigen::Index j = 0; j < ncols; ++j) {
+      int p = mo[j];
+      const int end = mo[j + 1];
+      int a = ho[j], b = bo[j];
+      const int ae = ho[j + 1], be = bo[j + 1];
+      while (a < ae || b < be) {
+        int row;
+        double v;
+        if (b == be || (a < ae && hi[a] < bi[b])) {
+          row = hi[a];
+          v = hv[a++] + 0.0;
+        } else if (a == ae || bi[b] < hi[a]) {
+          row = bi[b];
+          v = 0.0 + bv[b++];
+        } else {
+          row = hi[a];
+          v = hv[a++] + bv[b++];
+        }
+        while (p < end && mi[p] < row) mv[p++] = 0.0;
+        if (p == end || mi[p] != row) {
+          ++outside;
+          break;
+        }
+        mv[p++] = v;
+      }
+      while (p < end) mv[p++] = 0.0;
+    }
+    if (outside == 0) {
+      ++uses_;
+      return M_;
+    }
+  }
+  Eigen::SparseMatrix<double> sum = H + C;
+  sum.makeCompressed();
+  return embed(sum, pad);
+}
+
 }  // namespace yarnhom::sim

@@ -27,6 +27,12 @@ class PaddedPattern {
   // pattern, which is rebuilt first when it does not hold A's. The result is valid until the
   // next call; its values may be changed (a diagonal shift).
   Eigen::SparseMatrix<double>& embed(const Eigen::SparseMatrix<double>& A, const Pad& pad);
+  // embed(H + C) (H compressed, C any), each entry's value that of Eigen's sum (h + c, h + 0,
+  // 0 + c): while the kept pattern holds both, one pass over the columns on the OpenMP threads
+  // writes the sum straight into it (no matrix H + C formed; the same values on any thread
+  // count); else H + C is formed and embedded as above.
+  Eigen::SparseMatrix<double>& embed_sum(const Eigen::SparseMatrix<double>& H, const Eigen::SparseMatrix<double>& C,
+                                         const Pad& pad);
 
   int rebuilds() const { return rebuilds_; }
   int uses() const { return uses_; }

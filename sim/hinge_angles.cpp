@@ -11,6 +11,8 @@ double unwrap_angle(double theta, double ref) { return ref + std::remainder(thet
 
 std::vector<double> hinge_angles(const Mesh& m, const Eigen::VectorXd& x, const std::vector<double>* ref) {
   std::vector<double> out(size_t(3) * m.num_triangles(), 0.0);
+  // Each angle on its own: the same values on any number of threads.
+#pragma omp parallel for schedule(static) if (m.num_triangles() >= 1024)
   for (int t = 0; t < m.num_triangles(); ++t)
     for (int i = 0; i < 3; ++i) {
       const int f = m.flaps(t, i);

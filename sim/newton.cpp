@@ -87,14 +87,15 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     if (!contact.empty()) {
       Hc.resize(H.rows(), H.cols());
       Hc.setFromTriplets(contact.begin(), contact.end());
-      Hsum = H + Hc;
-      Hsum.makeCompressed();
-      A = &Hsum;
-      // With a kept pattern, the same values on it (sim/contact_pattern.hpp): the solver's
-      // analysis is reused while the contacts stay within it. Its pad: the couplings of the
-      // pairs within 2 dhat at x.
-      if (pat.contact)
-        A = &pat.contact->embed(Hsum, [&] {
+      // With a kept pattern, the same values on it (sim/contact_pattern.hpp), the sum written
+      // straight into it: the solver's analysis is reused while the contacts stay within it.
+      // Its pad: the couplings of the pairs within 2 dhat at x.
+      if (!pat.contact) {
+        Hsum = H + Hc;
+        Hsum.makeCompressed();
+        A = &Hsum;
+      } else {
+        A = &pat.contact->embed_sum(H, Hc, [&] {
           const Eigen::VectorXd y = solve_obstacles(P, S);
           std::vector<std::pair<int, int>> blocks;
           for (const ContactPair& c : contact_candidates_within(P, x, y, 2 * P.dhat))
@@ -106,6 +107,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
               }
           return blocks;
         });
+      }
       diag.assign(A->outerIndexPtr(), A->outerIndexPtr() + 3 * F);
     } else {
       diag = pat.diag_slots;

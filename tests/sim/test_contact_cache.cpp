@@ -6,6 +6,7 @@
 // PaddedPattern hands the solver the same matrix on a pattern that changes only when a coupling
 // leaves it, and the solve agrees.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <random>
@@ -217,4 +218,53 @@ TEST(ContactCache, PaddedPatternKeepsItsPatternWhileTheCouplingsStayWithinIt) {
   EXPECT_EQ(pads, 2);
   EXPECT_EQ((Eigen::MatrixXd(M3) - Eigen::MatrixXd(A3)).norm(), 0.0);
   EXPECT_EQ(kept.uses(), 3);
+}
+
+// embed_sum writes H + C straight into the kept pattern: the values of embed(H + C) bit for bit
+// (on 1 and 3 threads, 3,600 columns: the threaded pass), and a C with a coupling outside the
+// pattern rebuilds it as embed does.
+TEST(ContactCache, PaddedPatternSumsIntoTheKeptPatternAsEmbedDoes) {
+  const int n = 3600;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<Eigen::Triplet<double>> th, tc;
+  for (int i = 0; i < n; ++i) {
+    th.emplace_back(i, i, 10 + U(rng));
+    for (int k = 1; k <= 4 && i + k < n; ++k) th.emplace_back(i + k, i, U(rng));
+  }
+  for (int k = 0; k < 2000; ++k) {  // contact-like entries: on H's band and farther below it, some repeated
+    const int j = int(rng() % (n - 40)), i = j + int(rng() % 40);
+    tc.emplace_back(i, j, U(rng));
+    if (k % 5 == 0) tc.emplace_back(i, j, U(rng));
+  }
+  Eigen::SparseMatrix<double> H(n, n), C(n, n);
+  H.setFromTriplets(th.begin(), th.end());
+  C.setFromTriplets(tc.begin(), tc.end());
+  const PaddedPattern::Pad pad = [&] {
+    std::vector<std::pair<int, int>> b;
+    for (const auto& t : tc)
+      if (t.row() / 3 > t.col() / 3) b.emplace_back(t.row() / 3, t.col() / 3);
+    return b;
+  };
+  const Eigen::SparseMatrix<double> sum = Eigen::SparseMatrix<double>(H + C);
+  PaddedPattern kept, ref;
+  kept.embed(sum, pad);
+  const Eigen::SparseMatrix<double> R = ref.embed(sum, pad);
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 3}) {
+    omp_set_num_threads(threads);
+    const Eigen::SparseMatrix<double> M = kept.embed_sum(H, C, pad);
+    omp_set_num_threads(saved);
+    EXPECT_EQ(kept.rebuilds(), 1);
+    ASSERT_EQ(M.nonZeros(), R.nonZeros());
+    EXPECT_TRUE(std::equal(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros(), R.innerIndexPtr()));
+    EXPECT_TRUE(std::equal(M.valuePtr(), M.valuePtr() + M.nonZeros(), R.valuePtr())) << threads;
+  }
+  // A coupling outside the kept pattern: rebuilt, the values H + C's.
+  tc.emplace_back(n - 1, 0, 0.25);
+  C.setFromTriplets(tc.begin(), tc.end());
+  const Eigen::SparseMatrix<double> M = kept.embed_sum(H, C, pad);
+  EXPECT_EQ(kept.rebuilds(), 2);
+  EXPECT_EQ(M.coeff(n - 1, 0), 0.25);
+  EXPECT_EQ((Eigen::SparseMatrix<double>(M - Eigen::SparseMatrix<double>(H + C))).coeffs().cwiseAbs().maxCoeff(), 0.0);
 }
