@@ -193,11 +193,20 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     // Hessian flattened to zero: the step is too short there. Extend it while the energy keeps
     // falling (up to 16 steps, within the collider bound), instead of creeping.
     if (!last && ls.accepted && alpha == 1.0 && En - E < 0.5 * slope) {
-      const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p, &S));  // multiple of p allowed from x
+      // Multiples of p allowed from x: by the colliders over the longest extension (cheap), by
+      // the contact pairs over each trial's own move, when it is tried (a CCD over 16 p at
+      // once, the extensions' reach, built a region of millions of pairs for a 16k sheet, and
+      // most extensions stop at 2 or 4).
+      const double amax = std::min(16.0, 16 * max_feasible_step(P, x, 16 * p));
+      double contact_ok = 1.0;  // the contact pairs' CCD allows x -> x + a p for a up to this
       const numerics::Extension ext = numerics::extend_step(
           1.0, En, slope, 4, 0.0,
           [&](double a) {
             if (a > amax) return std::numeric_limits<double>::infinity();
+            if (a > contact_ok && has_contact(P)) {
+              if (!(max_feasible_step(P, x, a * p, &S) >= 1)) return std::numeric_limits<double>::infinity();
+              contact_ok = a;
+            }
             xt = x + a * p;
             return potential_value(P, D, S, xt, &shell_t);
           },
