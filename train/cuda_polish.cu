@@ -94,7 +94,8 @@ bool cuda_polish_supports(const NetworkJob& job, const TrainConfig& cfg, const P
   const int d = job.desc.input_dim;
   if (resolved_weight(opt.w_c, cfg.loss.w.c) != 0 || resolved_weight(opt.w_s, cfg.loss.w.s) != 0) return false;
   if (cfg.loss.w.x != 0 || job.desc.hidden.empty()) return false;
-  if (opt.memory < 1 || opt.memory > cuda::kMaxMemory) return false;
+  const int memory = polish_memory(opt, d);
+  if (memory < 1 || memory > cuda::kMaxMemory) return false;
   if (d == 2 && opt.rest_weight_2d > 0) return false;
   if (cuda::device_count() == 0) return false;
   const cuda::detail::NetShape s = cuda::detail::make_shape(job.desc);
@@ -144,7 +145,7 @@ void launch_polish(const std::vector<NetworkJob>& jobs, const TrainConfig& cfg, 
     n.n_train = job.n_train;
     n.n_val = job.n_val;
     n.max_iter = d == 1 && opt.iterations_1d >= 0 ? opt.iterations_1d : opt.iterations;
-    n.memory = opt.memory;
+    n.memory = polish_memory(opt, d);
     n.keep_best = opt.keep_best;
     n.wz = cfg.loss.w.z;
     n.wf = cfg.loss.w.f;

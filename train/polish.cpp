@@ -214,7 +214,7 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   for (int i = 0; i < P; ++i) x[i] = params[i];
   LbfgsOptions lo;
   lo.max_iterations = d == 1 && opt.iterations_1d >= 0 ? opt.iterations_1d : opt.iterations;
-  lo.memory = opt.memory;
+  lo.memory = polish_memory(opt, d);
   const LbfgsResult r = lbfgs_minimize(x, fg, lo, observe);
   res.iterations = r.iterations;
   res.evaluations = r.evaluations;
@@ -228,6 +228,10 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
 }
 
 }  // namespace
+
+int polish_memory(const PolishOptions& opt, int input_dim) {
+  return input_dim == 2 && opt.memory_2d > 0 ? opt.memory_2d : opt.memory;
+}
 
 bool polish_stalled_high(const PolishResult& r, const PolishOptions& opt) {
   if (!(opt.stall_ratio > 0) || r.iterations == 0 || r.stop != kPolishNoProgress) return false;

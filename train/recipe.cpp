@@ -24,6 +24,7 @@ TrainerOptions recipe_options(const std::string& recipe) {
     opt.polish.relative_floor[0] = 0.1;  // the 1D terms' small stresses (docs/training.md, "Relative fit")
     opt.polish.rest_weight = 0.1;        // and their curvature at rest
     opt.polish.iterations_1d = 8000;
+    opt.polish.memory_2d = 30;           // (docs/training.md, "The polish's memory and stops")
     return opt;
   }
   std::string names;

@@ -64,6 +64,7 @@ TrainerOptions trainer_options(const TrainRunOptions& o, const std::set<std::str
   if (given("--polish-w-c")) opt.polish.w_c = o.polish_wc;
   if (given("--polish-w-s")) opt.polish.w_s = o.polish_ws;
   if (given("--polish-keep-last")) opt.polish.keep_best = false;
+  if (given("--polish-memory-2d")) opt.polish.memory_2d = o.polish_memory_2d;
   if (given("--relative-fit")) opt.polish.relative_floor[0] = o.relative;
   if (given("--relative-fit-2d")) opt.polish.relative_floor[1] = o.relative_2d;
   if (given("--rest-curvature")) opt.polish.rest_weight = o.rest_weight;

@@ -24,6 +24,7 @@ struct TrainRunOptions {
   bool polish_float = false;
   double rest_weight = 0.1, rest_mixed = 0;
   bool polish_keep_last = false;
+  int polish_memory_2d = recipe_options("default").polish.memory_2d;
 };
 
 // Trains `term` when set (train), else `terms` ("all": every term the dataset has; train-all),

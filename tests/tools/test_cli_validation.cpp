@@ -121,7 +121,8 @@ TEST(Validation, InvalidOptionsAreRefusedNamingThem) {
   const auto f = yarnhom::test::write_small_files(d);
   const std::string train = "train-all " + f.dataset + " -o " + d / "m.h5 --epochs 1 -q ";
   for (const std::string o : {"--threads -1", "--lr -1", "--lr 0", "--lr nan", "--w-s -100", "--w-c inf",
-                               "--terms ''", "--hidden 0,4", "--stencil-eps 0", "--off-domain -1"})
+                               "--terms ''", "--hidden 0,4", "--stencil-eps 0", "--off-domain -1",
+                               "--polish-memory-2d 0", "--polish-memory-2d 33"})
     expect_refused(train + o, {o.substr(0, o.find(' '))});
   const std::string produce = "produce stockinette -o " + d / "ds.h5 --terms 0 ";
   for (const std::string o : {"--threads -3", "--sectors 0", "--sectors -1", "--terms ''", "--preset huge", "--tile 0,1",

@@ -320,3 +320,30 @@ TEST(Polish, FloatPolishStalledHighRunsAgainInDoubleAndKeepsTheBetterRun) {
   std::printf("float %d it, val %.3g; double %d it, val %.3g; kept the %s run\n", pf.iterations, pf.val_end,
               pb.iterations, pb.val_end, double_better ? "double" : "float");
 }
+
+// PolishOptions::memory_2d: the 2D terms' L-BFGS memory (the default recipe's 30), the 1D terms
+// keeping `memory`. A 2D polish with memory_2d 30 is the one with memory 30 bit for bit, and not
+// the one with 10.
+TEST(Polish, Memory2dSetsTheTwoDimensionalTermsHistory) {
+  const TrainerOptions def = recipe_options("default");
+  EXPECT_EQ(polish_memory(def.polish, 1), 10);
+  EXPECT_EQ(polish_memory(def.polish, 2), 30);
+  const Dataset ds = make_synthetic_dataset("quick");
+  const std::vector<Term> terms = {term_by_name("02")};
+  auto params = [&](int memory, int memory_2d) {
+    TrainerOptions opt = def;
+    opt.config.epochs = 20;
+    opt.config.threads = 1;
+    opt.polish.iterations = 200;
+    opt.polish.memory = memory;
+    opt.polish.memory_2d = memory_2d;
+    auto be = make_backend("cpu");
+    const TrainResult r = train_terms(ds, "synthetic", terms, opt, *be);
+    EXPECT_TRUE(r.all_ok());
+    EXPECT_EQ(r.polish[0].iterations, 200) << r.polish[0].stop;
+    return r.model.networks[0].params;
+  };
+  const std::vector<float> m30 = params(10, 30);
+  EXPECT_EQ(m30, params(30, -1));
+  EXPECT_NE(m30, params(10, -1));
+}
