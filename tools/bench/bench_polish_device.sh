@@ -6,7 +6,8 @@
 # pinned cores, bench_polish, the training step's kernels on one pinned core (bench_kernels
 # BM_training_step: the general kernel and the epochs' fused kernel), and the PyTorch reference of
 # the paper's recipe on the same GPU. The cpu step alternates the epochs' fused kernel with the
-# general one (YARNHOM_CPU_EPOCH_KERNEL=general, the behaviour before it), two runs of each.
+# general one (YARNHOM_CPU_EPOCH_KERNEL=general, the behaviour before it), two runs of each; the
+# train and cpu steps also alternate the 2D polishes' L-BFGS memory 10 (before session 47) and 30.
 # From the repository root, on the device machine:
 #   bash tools/bench/bench_polish_device.sh [build] [tests] [train] [cpu] [bench] [kernels] [torch]   (default: all)
 set -u -o pipefail
@@ -64,6 +65,13 @@ PY
   done
   head -17 /tmp/r.log | cut -c1-100
   for r in 1 2; do run "cuda paper recipe run $r" $Y train-all /tmp/paper.h5 -o /tmp/m_paper.h5 --backend cuda --recipe paper -q; done
+  # The 2D polishes' L-BFGS memory: 30 (the default since session 47) against the 10 before.
+  for r in 1 2; do
+    run "cuda default, 2D memory 10 (before), run $r" $Y train-all /tmp/paper.h5 -o /tmp/m_m10.h5 --backend cuda -q --polish-memory-2d 10
+    run "cuda default, 2D memory 30 (default), run $r" $Y train-all /tmp/paper.h5 -o /tmp/m_m30.h5 --backend cuda -q
+  done
+  YARNHOM_CUDA_POLISH_PROFILE=1 $Y train-all /tmp/paper.h5 -o /tmp/m_prof10.h5 --backend cuda -q --polish-memory-2d 10 2>&1 |
+    grep -E "polish on the GPU|kcycles" | sed 's/^/memory 10: /' | tee "$OUT/polish_profile_m10.txt"
   for c in 1 2 4 8; do
     YARNHOM_CUDA_POLISH_CLUSTER=$c run "cuda default, polish cluster $c" $Y train-all /tmp/paper.h5 -o /tmp/m_c.h5 --backend cuda -q
   done
@@ -75,6 +83,13 @@ if has cpu; then
       YARNHOM_CPU_EPOCH_KERNEL=$k run "cpu default, 2 threads pinned (taskset 0,1), epoch kernel $k, run $r" \
         taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpu_$k.h5 --threads 2 -q
       cp /tmp/r.log "$OUT/train_cpu_default_$k.log"
+      grep -c FAILS /tmp/r.log | sed 's/^/  failing terms: /'
+    done
+  done
+  for r in 1 2; do
+    for m in 10 30; do
+      run "cpu default, 2 threads pinned (taskset 0,1), 2D memory $m, run $r" \
+        taskset -c 0,1 $Y train-all /tmp/paper.h5 -o /tmp/m_cpu_m$m.h5 --threads 2 -q --polish-memory-2d $m
       grep -c FAILS /tmp/r.log | sed 's/^/  failing terms: /'
     done
   done
