@@ -259,7 +259,7 @@ std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::
 
 double pair_friction_energy(const std::vector<PairFriction>& F, double eps, const std::vector<int>& free_index,
                             const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad,
-                            std::vector<Eigen::Triplet<double>>* trip) {
+                            std::vector<Eigen::Triplet<double>>* trip, bool majorize) {
   double E = 0;
   for (const PairFriction& f : F) {
     const Vec12 q = pair_coordinates(f.pair, x, y);
@@ -272,7 +272,8 @@ double pair_friction_energy(const std::vector<PairFriction>& F, double eps, cons
     Vec12 g;
     Mat12 H;
     const V3 gs = f.mu_lambda * m.f1_over_y * (f.T * u);
-    Eigen::Matrix2d Hu = m.f1_over_y * Eigen::Matrix2d::Identity() + m.uu_coeff * u * u.transpose();
+    Eigen::Matrix2d Hu = majorize ? Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity())
+                                  : Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity() + m.uu_coeff * u * u.transpose());
     numerics::project_psd<2>(Hu);
     const Eigen::Matrix3d Hs = f.mu_lambda * f.T * Hu * f.T.transpose();
     for (int k = 0; k < 4; ++k) {

@@ -102,10 +102,15 @@ std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::
                                                  ContactCache* cache = nullptr);
 
 // The friction potential of the lagged pairs at (x, y), with gradient and Hessian triplets as
-// contact_energy.
+// contact_energy. majorize: the Hessian's 2 x 2 slip block is (f1(y)/y) I, the curvature of the
+// quadratic that touches f0(|u|) at u and lies above it everywhere (f1(y)/y does not increase),
+// instead of the exact (f1(y)/y) I + (f1' - f1/y) u u^T / y^2, whose stiffness along a sliding
+// slip is f1' = 0: a Newton step then moves a sliding vertex by its friction force over the
+// mass term alone (the one-solve step's moving body: 30 cm on a 1.7 cm step, sim/integrators.hpp),
+// where the majorizer's step brings it at most to sticking. Value and gradient are the same.
 double pair_friction_energy(const std::vector<PairFriction>& F, double eps, const std::vector<int>& free_index,
                             const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad = nullptr,
-                            std::vector<Eigen::Triplet<double>>* triplets = nullptr);
+                            std::vector<Eigen::Triplet<double>>* triplets = nullptr, bool majorize = false);
 
 // True when some non-adjacent cloth triangles intersect, or a cloth triangle meets an obstacle
 // (a mesh triangle, or comes within a capsule's radius of its axis): the exact check of

@@ -95,6 +95,13 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     S.obstacle_y_start = y0;
     S.obstacle_y = y1;
   }
+  // The one-solve step while an obstacle moves (sim/integrators.hpp): the pairs' friction with
+  // its majorizing Hessian, and up to three more iterations where a solve's step was cut short.
+  NewtonSettings sopt = opt;
+  if (opt.max_iterations == 1 && contact && y1 != y0) {
+    sopt.extra_when_cut = 3;
+    S.pair_friction_majorize = true;
+  }
   // Initial guess: the inertial prediction, vertex by vertex outside the colliders
   // (feasible_prediction); then the prescribed vertices at their targets. With the prescribed
   // vertices moved within the solve (opt.prescribed_in_solve: the one-solve step), neither start
@@ -154,7 +161,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   const int stages = obstacles ? std::max(1, obstacles->max_stages) : 8;
   if (!contact) {
     for (int stage = 0; stage < stages; ++stage) {
-      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile, solve_target);
+      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, sopt, profile, solve_target);
       if (stage == 0) out.newton = ns;
       else accumulate(out.newton, ns);
       ++out.contact_stages;
@@ -189,7 +196,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
       } else {
         S.obstacle_y = y1;
       }
-      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, opt, profile, solve_target);
+      const NewtonStats ns = minimize_with_friction(P, D, pat, solver, S, x, P.friction_eps_v * h, xn, sopt, profile, solve_target);
       if (stage == 0) out.newton = ns;
       else accumulate(out.newton, ns);
       ++out.contact_stages;

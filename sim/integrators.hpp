@@ -16,7 +16,14 @@
 //   sim/newton.hpp); a move cut short goes on in another solve (at most max_stages), the rest
 //   lags to the next step. (Placed first, a handle moving 1.5 quads per step left its
 //   neighbours behind, the one solve never caught up, and the fold scene's start went past the
-//   collapse guard: non-finite at step 16.)
+//   collapse guard: non-finite at step 16.) In a step whose obstacles move, the contact pairs'
+//   friction takes its majorizing Hessian (sim/contact.hpp: pair_friction_energy) and a solve
+//   whose line search took less than the whole Newton step gets up to three more iterations
+//   (NewtonSettings::extra_when_cut): a seam sliding on a moving arm has no friction stiffness
+//   along its slip, its Newton step was 30 cm on a 1.7 cm step, CCD against the body cut the
+//   whole step to 1-40 %, and the cloth, keeping that share of its correction step after step,
+//   stretched (GarmentBody.OneSolveStepCarriesTheTshirtOnABodyMovingSideways). Steps whose
+//   obstacles stand still are unchanged, bit for bit.
 // Contact (sim/contact.hpp: self-collision and obstacles), in both: the move from x_n to
 // Newton's start (the prediction, handles and obstacles moved to their targets) is made safe by
 // make_move_safe (vertices that would pass through cloth stay, those an obstacle would pass

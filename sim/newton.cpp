@@ -69,7 +69,8 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     if (!(move.cwiseAbs().maxCoeff() > 0)) move.resize(0);
     else coupling = Eigen::VectorXd::Zero(x.size());
   }
-  for (int it = 0; it < opt.max_iterations; ++it) {
+  int budget = opt.max_iterations;
+  for (int it = 0; it < budget; ++it) {
     auto t0 = Clock::now();
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
     contact.clear();
@@ -227,6 +228,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g, ccd %.3g\n", it, E, En,
                    st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p, &S));
     x = xn;
+    if (alpha < 1 && budget < opt.max_iterations + opt.extra_when_cut) ++budget;
     st.energy = En;
     st.shell_energy = shell_n;
     // The hinges' branches follow the iterate: a step that turns a hinge by more than pi in all

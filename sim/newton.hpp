@@ -42,6 +42,10 @@ struct NewtonSettings {
   // The time step's prescribed vertices: false, placed at their targets before the solve;
   // true (the one-solve step), moved within it (newton_minimize's target; sim/integrators.hpp).
   bool prescribed_in_solve = false;
+  // Iterations beyond max_iterations, one for each iteration whose line search took less than
+  // the whole Newton step (the CCD bound or Armijo cut it short), at most this many: the
+  // one-solve step while an obstacle moves (sim/integrators.hpp says why).
+  int extra_when_cut = 0;
 };
 
 struct NewtonStats {

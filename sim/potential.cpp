@@ -141,7 +141,8 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
     const Eigen::VectorXd y = solve_obstacles(P, S);
     E += contact_energy(P, D.free_index, x, y, &grad, contact, S.contact_cache.get());
     if (!S.pair_friction.empty())
-      E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y, &grad, contact);
+      E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y, &grad, contact,
+                                S.pair_friction_majorize);
   }
   if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time, &grad, contact);
   return E + rayleigh_beta_term(P, D, S, x, &grad, values);

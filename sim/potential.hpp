@@ -45,6 +45,7 @@ struct StepState {
   Eigen::VectorXd obstacle_y;        // 3K obstacle positions during this solve (sim/obstacles.hpp)
   Eigen::VectorXd obstacle_y_start;  // ... at the step's start (friction's slip)
   std::vector<PairFriction> pair_friction;  // lagged friction of contact pairs (sim/contact.hpp)
+  bool pair_friction_majorize = false;      // ... with the majorizing Hessian (pair_friction_energy)
   // The step's contact broad phase (sim/contact_broad_phase.hpp), shared by its evaluations and
   // CCDs; null: a fresh broad phase per call (the simulator sets it with self-collision on).
   std::shared_ptr<ContactCache> contact_cache;
