@@ -1,5 +1,6 @@
 // Cloth pinched between a moving capsule and something fixed (sim/contact.hpp, issue 35): a
-// static rod, a floor plane collider, the sheet's own pinned row. The capsule must be held back
+// static rod, a floor plane collider, the sheet's own pinned row, another sheet's pinned row
+// (cloth against cloth). The capsule must be held back
 // (it lags its path, and the step says by how much), never pass through, and the state stays
 // finite. Every step is checked with the exact test (contact_intersections; for the plane,
 // every vertex on its free side).
@@ -117,4 +118,47 @@ TEST(Pinch, ACapsulePressingOnASheetsPinnedRowIsHeldBackAbove) {
   EXPECT_EQ(run.steps, 14);
   EXPECT_GT(run.last_z, 0.015);
   EXPECT_GT(run.result.steps.back().obstacle_lag, 0.01);
+}
+
+TEST(Pinch, ACapsulePressingASheetOntoAnotherSheetsPinnedRowIsHeldBackAbove) {
+  // Cloth pinched against other cloth: a free sheet 3 mm above a second sheet whose middle row
+  // (y = 0) is pinned; a capsule along x over that row, moving down, presses the upper sheet onto
+  // the lower one, which cannot give way there. The carry of the upper sheet into the lower one
+  // (sim/contact.hpp: make_move_safe) is bounded by CCD, not undone; the capsule must still stop
+  // above both layers, and no layer may cross the other.
+  const int n = 4;
+  const double L = 0.12;
+  const Scene one = flat_sheet(n, L, 0.0);
+  const int nv = one.mesh.num_vertices();
+  Scene s = one;
+  s.mesh.rest.resize(2 * nv, 2);
+  s.mesh.x.resize(2 * nv, 3);
+  s.mesh.tris.resize(2 * one.mesh.num_triangles(), 3);
+  for (int v = 0; v < nv; ++v) {
+    s.mesh.rest.row(v) = one.mesh.rest.row(v);
+    s.mesh.rest.row(nv + v) = one.mesh.rest.row(v) + Eigen::RowVector2d(2 * L, 0);
+    s.mesh.x.row(v) = one.mesh.x.row(v);
+    s.mesh.x.row(nv + v) = one.mesh.x.row(v) + Eigen::RowVector3d(0, 0, 0.003);
+  }
+  s.mesh.tris << one.mesh.tris, (one.mesh.tris.array() + nv).matrix();
+  finish_mesh(s.mesh);
+  s.self_collision = true;
+  Handle pin;  // the lower sheet's middle row
+  for (int i = 0; i <= n; ++i) pin.vertices.push_back(rectangle_vertex(n, i, n / 2));
+  s.handles = {pin};
+  CapsuleObstacle cap = pressing_capsule(0.02, 0.06);
+  cap.a = Eigen::Vector3d(-0.2, 0.0, 0.02);
+  cap.b = Eigen::Vector3d(0.2, 0.0, 0.02);
+  s.obstacles.capsules = {cap};
+  s.frames = 14;
+  const PinchRun run = run_checked(s, 0, 0.02, 0.06);
+  ASSERT_TRUE(run.result.finite);
+  EXPECT_EQ(run.steps, 14);
+  EXPECT_GT(run.last_z, 0.015);  // the capsule's bottom above both layers (the upper at 3 mm)
+  EXPECT_GT(run.result.steps.back().obstacle_lag, 0.01);
+  // The upper sheet's middle row stays above the lower one's (the layers never swap).
+  for (int i = 0; i <= n; ++i) {
+    const int lo = rectangle_vertex(n, i, n / 2);
+    EXPECT_GT(run.result.x[3 * (nv + lo) + 2], run.result.x[3 * lo + 2]) << "column " << i;
+  }
 }
