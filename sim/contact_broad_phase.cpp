@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
+#include <tuple>
 
 #include "numerics/contact_pairs.hpp"
 #include "sim/contact.hpp"
@@ -190,14 +192,31 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   ylo_ = y0.cwiseMin(y1).array() - margin;
   yhi_ = y0.cwiseMax(y1).array() + margin;
   radius_ = point_radius(P.obstacles);
+  std::vector<Entry> old;
+  std::vector<double> old_gap;
+  if (snapped_) old.swap(entries_), old_gap.swap(gap_);
   entries_.clear();
   box_candidates(
       P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
       [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j, make_pair(P, radius_, g, i, j)}); }, true);
   valid_ = true;
-  snapped_ = false;
-  gap_.assign(entries_.size(), 0.0);
   ++builds_;
+  // A pair of the old region keeps its bound at the snapshot (a bound of its distance there,
+  // whatever the region); a new pair has none (-inf: computed at its first query). Both lists
+  // are sorted by (group, j, i) (box_candidates' order): one merge.
+  gap_.assign(entries_.size(), -std::numeric_limits<double>::infinity());
+  const auto key = [](const Entry& e) { return std::make_tuple(e.group, e.j, e.i); };
+  const auto by_key = [&](const Entry& a, const Entry& b) { return key(a) < key(b); };
+  if (!snapped_ || !std::is_sorted(old.begin(), old.end(), by_key) ||
+      !std::is_sorted(entries_.begin(), entries_.end(), by_key)) {
+    snapped_ = false;
+    return;
+  }
+  size_t a = 0;
+  for (size_t k = 0; k < entries_.size(); ++k) {
+    while (a < old.size() && by_key(old[a], entries_[k])) ++a;
+    if (a < old.size() && key(old[a]) == key(entries_[k])) gap_[k] = old_gap[a];
+  }
 }
 
 bool ContactCache::entry_overlaps(const Problem& P, const Entry& e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,

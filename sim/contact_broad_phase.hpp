@@ -44,8 +44,9 @@
 // The other region pairs go through the broad phase's own box test at the query's positions,
 // so the result is the candidates' list with pairs left out and nothing else changed: the
 // barrier's sum, its gradient and triplets, the CCD bound and its hits come out bit for bit.
-// Right after a build the snapshot is empty: every pair's distance is computed once (the CCD
-// of the move that built the region, which computed them before anyway).
+// A rebuild keeps the snapshot: a pair of the old region keeps its bound (it bounds the pair's
+// distance at the snapshot's positions, whatever the region), a new pair has none and is
+// computed at its first query; the cache's first build computes every pair once.
 #include <Eigen/Core>
 #include <array>
 #include <vector>

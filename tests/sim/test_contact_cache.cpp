@@ -170,6 +170,19 @@ TEST(ContactCache, NearPairsLeaveOutOnlyPairsBeyondTheBarrierAndTheCcd) {
               contact_step_bound(P, xa, xb - xa, ya, yb - ya));
   }
   EXPECT_EQ(cache.builds(), 1);
+  // A query beyond the region rebuilds it and keeps the bounds of the pairs it had: fewer
+  // distances than pairs (every one without them; the layers' close pairs are computed either
+  // way), and the near list and energy still those of all the candidates.
+  const Eigen::VectorXd x2 = x1 + 0.5 * dx, y2 = y1 + 0.5 * dy;
+  const long before = cache.distances();
+  const std::vector<ContactPair> near2 = cache.near(P, x2, y2);
+  EXPECT_EQ(cache.builds(), 2);
+  EXPECT_LT(cache.distances() - before, long(cache.region_pairs()) * 9 / 10);
+  const std::vector<ContactPair> all2 = contact_candidates(P, x2, x2, y2, y2);
+  EXPECT_TRUE(is_subsequence(near2, all2));
+  EXPECT_EQ(within_dhat(P, near2, x2, y2), within_dhat(P, all2, x2, y2));
+  EXPECT_GT(within_dhat(P, near2, x2, y2), 10);
+  EXPECT_EQ(contact_energy(P, free, x2, y2, nullptr, nullptr, &cache), contact_energy(P, free, x2, y2));
 }
 
 TEST(ContactCache, PaddedPatternKeepsItsPatternWhileTheCouplingsStayWithinIt) {
