@@ -23,6 +23,10 @@ void accumulate(NewtonStats& into, const NewtonStats& more) {
   into.shifted += more.shifted;
   into.backtracks += more.backtracks;
   into.extensions += more.extensions;
+  into.factorizations += more.factorizations;
+  into.cg_iterations += more.cg_iterations;
+  into.reused += more.reused;
+  into.evaluations += more.evaluations;
   into.t_assemble += more.t_assemble;
   into.t_solve += more.t_solve;
   into.t_line_search += more.t_line_search;

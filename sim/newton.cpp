@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "numerics/newton.hpp"
+#include "numerics/pcg.hpp"
 #include "sim/contact_pattern.hpp"
 #include "sim/hinge_angles.hpp"
 
@@ -69,6 +70,8 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     if (!(move.cwiseAbs().maxCoeff() > 0)) move.resize(0);
     else coupling = Eigen::VectorXd::Zero(x.size());
   }
+  bool factored = false;  // the solver holds a factorization of this solve's (factor reuse)
+  bool refactor = false;  // the last reused step failed its line search: factor this iteration's matrix
   int budget = opt.max_iterations;
   for (int it = 0; it < budget; ++it) {
     auto t0 = Clock::now();
@@ -115,55 +118,85 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     }
     auto t1 = Clock::now();
     st.t_assemble += seconds(t0, t1);
-    // Factorize; on failure shift the diagonal by a growing multiple of its mean magnitude
-    // (numerics/newton.hpp's schedule: 1e-8, then x10, 12 shifts at most).
-    double mean_diag = 0;
-    for (int k = 0; k < 3 * F; ++k) mean_diag += A->valuePtr()[diag[k]];
-    mean_diag = std::max(std::abs(mean_diag) / (3 * F), 1e-300);
-    double applied = 0;  // the shift already on H's diagonal
-    const numerics::ShiftResult shift = numerics::shifted_factorization(
-        0.0,
-        [&](double mu) {
-          if (mu > applied) {
-            for (int k = 0; k < 3 * F; ++k) A->valuePtr()[diag[k]] += (mu - applied) * mean_diag;
-            applied = mu;
-          }
-          return solver.factorize(*A);
-        },
-        {1e-8, 10, 13, 0.0});
-    if (shift.mu > 0) ++st.shifted;
-    if (!shift.ok) {
-      if (lift) st.prescribed_reached = false;
-      break;
+    // Factor reuse (sim/newton.hpp): after the solve's first factorization, CG on this
+    // iteration's matrix preconditioned by the last factor; a factorization of its own only when
+    // CG does not reach the tolerance within opt.reuse_cg iterations.
+    Eigen::VectorXd pf;
+    bool reused = false;
+    int cg_its = 0;
+    double shift_mu = 0;
+    if (opt.reuse_cg > 0 && factored && !lift && !refactor) {
+      const double floor = 0.1 * opt.tol_step;  // an error a tenth of the convergence tolerance is none
+      const numerics::PcgResult cg = numerics::pcg(
+          [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return A->selfadjointView<Eigen::Lower>() * v; },
+          [&](const Eigen::VectorXd& r) { return solver.solve(r); }, -g, opt.reuse_cg,
+          [&](const Eigen::VectorXd& y, const Eigen::VectorXd& z) {
+            const double err = step_size(P, D, z, opt.norm);
+            return err <= floor || err <= opt.reuse_tol * step_size(P, D, y, opt.norm);
+          });
+      st.cg_iterations += cg.iterations;
+      cg_its = cg.iterations;
+      if (cg.converged) {
+        pf = cg.x;
+        reused = true;
+        ++st.reused;
+      }
     }
-    if (lift) {
-      // The prescribed move with the free vertices' first-order response, as far as CCD and a
-      // finite potential allow; then the gradient where it ends.
-      Eigen::VectorXd m = move;
-      scatter_free(D, -solver.solve(gather_free(D, coupling)), m);
-      double beta = m.allFinite() ? max_feasible_step(P, x, m, &S) : 0.0;
-      Eigen::VectorXd xl;
-      bool moved = false;
-      for (int k = 0; k < 40 && beta > 0; ++k, beta *= 0.5) {
-        xl = x + beta * m;
-        if (std::isfinite(potential_value(P, D, S, xl))) {
-          moved = true;
-          break;
+    refactor = false;
+    if (!reused) {
+      // Factorize; on failure shift the diagonal by a growing multiple of its mean magnitude
+      // (numerics/newton.hpp's schedule: 1e-8, then x10, 12 shifts at most).
+      double mean_diag = 0;
+      for (int k = 0; k < 3 * F; ++k) mean_diag += A->valuePtr()[diag[k]];
+      mean_diag = std::max(std::abs(mean_diag) / (3 * F), 1e-300);
+      double applied = 0;  // the shift already on H's diagonal
+      const numerics::ShiftResult shift = numerics::shifted_factorization(
+          0.0,
+          [&](double mu) {
+            if (mu > applied) {
+              for (int k = 0; k < 3 * F; ++k) A->valuePtr()[diag[k]] += (mu - applied) * mean_diag;
+              applied = mu;
+            }
+            ++st.factorizations;
+            return solver.factorize(*A);
+          },
+          {1e-8, 10, 13, 0.0});
+      if (shift.mu > 0) ++st.shifted;
+      shift_mu = shift.mu;
+      factored = shift.ok;
+      if (!shift.ok) {
+        if (lift) st.prescribed_reached = false;
+        break;
+      }
+      if (lift) {
+        // The prescribed move with the free vertices' first-order response, as far as CCD and a
+        // finite potential allow; then the gradient where it ends.
+        Eigen::VectorXd m = move;
+        scatter_free(D, -solver.solve(gather_free(D, coupling)), m);
+        double beta = m.allFinite() ? max_feasible_step(P, x, m, &S) : 0.0;
+        Eigen::VectorXd xl;
+        bool moved = false;
+        for (int k = 0; k < 40 && beta > 0; ++k, beta *= 0.5) {
+          xl = x + beta * m;
+          if (std::isfinite(potential_value(P, D, S, xl))) {
+            moved = true;
+            break;
+          }
+        }
+        st.prescribed_reached = moved && beta == 1.0;
+        if (moved) {
+          x = xl;
+          if (st.prescribed_reached)  // exactly on the targets, not to rounding
+            for (size_t v = 0; v < D.free_index.size(); ++v)
+              if (D.free_index[v] < 0) x.segment<3>(3 * v) = target->segment<3>(3 * v);
+          if (!S.theta_ref.empty()) S.theta_ref = hinge_angles(P.mesh, x, &S.theta_ref);
+          E = potential_derivatives(P, D, pat, S, x, grad, nullptr, nullptr, &st.shell_energy);
+          st.energy = E;
+          g = gather_free(D, grad);
         }
       }
-      st.prescribed_reached = moved && beta == 1.0;
-      if (moved) {
-        x = xl;
-        if (st.prescribed_reached)  // exactly on the targets, not to rounding
-          for (size_t v = 0; v < D.free_index.size(); ++v)
-            if (D.free_index[v] < 0) x.segment<3>(3 * v) = target->segment<3>(3 * v);
-        if (!S.theta_ref.empty()) S.theta_ref = hinge_angles(P.mesh, x, &S.theta_ref);
-        E = potential_derivatives(P, D, pat, S, x, grad, nullptr, nullptr, &st.shell_energy);
-        st.energy = E;
-        g = gather_free(D, grad);
-      }
+      pf = -solver.solve(g);
     }
-    const Eigen::VectorXd pf = -solver.solve(g);
     auto t2 = Clock::now();
     st.t_solve += seconds(t1, t2);
     ++st.iterations;
@@ -186,6 +219,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
           return potential_value(P, D, S, xn, &shell_n);
         },
         {opt.armijo, 40, 0.0});
+    st.evaluations += ls.trials;
     st.backtracks += ls.trials - (ls.accepted ? 1 : 0);
     const double alpha = ls.alpha;
     double En = ls.energy;
@@ -217,16 +251,23 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
           });
       En = ext.energy;
       st.extensions += ext.doublings;
+      st.evaluations += ext.doublings + 1;
     }
     st.t_line_search += seconds(t2, Clock::now());
+    if (!ls.accepted && reused) {
+      // The inexact step found no decrease: the same point again with a factorization of its own.
+      refactor = true;
+      continue;
+    }
     if (!ls.accepted) {
       // No decrease at rounding level: the step is below what the energy resolves.
       st.converged = alpha * st.step_norm < opt.tol_step || std::abs(slope) < 1e-14 * (1 + std::abs(E));
       break;
     }
     if (std::getenv("YARNHOM_SIM_DEBUG"))
-      std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g, ccd %.3g\n", it, E, En,
-                   st.step_norm, alpha, slope, shift.mu, max_feasible_step(P, x, p, &S));
+      std::fprintf(stderr, "  newton %d: E %.12g -> %.12g, |p| %.3g, alpha %.3g, slope %.3g, shift %g, ccd %.3g, %s\n", it, E, En,
+                   st.step_norm, alpha, slope, shift_mu, max_feasible_step(P, x, p, &S),
+                   reused ? ("CG " + std::to_string(cg_its)).c_str() : cg_its ? "factored after CG" : "factored");
     x = xn;
     if (alpha < 1 && budget < opt.max_iterations + opt.extra_when_cut) ++budget;
     st.energy = En;

@@ -9,6 +9,18 @@
 // Converged when the Newton step's largest vertex displacement is below tol_step (m): in a
 // dynamic step that is a velocity error below tol_step / h (IPC's criterion; the simulation's
 // default is tol_step = 1e-2 l h, l the sheet's rest diagonal, as in IPC).
+//
+// Factor reuse (NewtonSettings::reuse_cg > 0, `sim --factor-reuse`; off by default): an
+// iteration after the solve's first assembles its matrix H_k as usual and solves H_k p = -g_k by
+// conjugate gradients (numerics/pcg.hpp) preconditioned with the solve's last Cholesky factor,
+// stopping when the preconditioned residual's size (the error's estimate) is below reuse_tol of
+// the step's or a tenth of tol_step, both in the step norm; when reuse_cg CG iterations do not
+// get there it factors H_k (which becomes the preconditioner). A reused step whose line search
+// finds no decrease is retried with a factorization. The convergence test is unchanged. On the
+// README demo's drape the matrix changes too much between iterations for it to pay: a CG
+// iteration costs a pair of triangular solves (about a twelfth of a factorization at 16k
+// triangles) and in the falling sheet's steps 8 of them missed the tolerance three times in
+// four, with more Newton iterations (docs/benchmarks.md, "Drape at 16k triangles").
 #include <cmath>
 #include <string>
 
@@ -46,6 +58,12 @@ struct NewtonSettings {
   // the whole Newton step (the CCD bound or Armijo cut it short), at most this many: the
   // one-solve step while an obstacle moves (sim/integrators.hpp says why).
   int extra_when_cut = 0;
+  // Factor reuse within one solve (above, "Factor reuse"): 0, every iteration factors its own
+  // matrix; k > 0, an iteration after the first solves with preconditioned conjugate gradients
+  // on its freshly assembled matrix, preconditioned by the solve's last factorization, and
+  // factors its own matrix only when k CG iterations do not reach reuse_tol.
+  int reuse_cg = 0;
+  double reuse_tol = 1e-2;  // CG's stop: the preconditioned residual's step size below reuse_tol times the step's
 };
 
 struct NewtonStats {
@@ -60,6 +78,10 @@ struct NewtonStats {
   double t_assemble = 0, t_solve = 0, t_line_search = 0;  // wall seconds
   ShellTimings shell;       // CPU seconds inside the element loop
   bool prescribed_reached = true;  // with a target: the prescribed vertices ended on it
+  int factorizations = 0;   // numeric factorizations (each diagonal shift's attempt counts)
+  int cg_iterations = 0;    // CG iterations on a reused factor (each: one product with H, one pair of triangular solves)
+  int reused = 0;           // iterations whose step came from CG on a reused factor
+  int evaluations = 0;      // energy evaluations of the line search and its extension
 };
 
 // Minimizes from x (3n; prescribed vertices already at their targets and kept there). The

@@ -182,6 +182,8 @@ Scene make_scene(const SimRunOptions& o) {
   if (o.tol > 0) s.newton.tol_step = o.tol;
   if (!o.tol_norm.empty()) s.newton.norm = parse_step_norm(o.tol_norm);
   if (o.max_iterations > 0) s.newton.max_iterations = o.max_iterations;
+  if (o.factor_reuse >= 0) s.newton.reuse_cg = o.factor_reuse;
+  if (o.factor_reuse_tol > 0) s.newton.reuse_tol = o.factor_reuse_tol;
   if (o.alpha >= 0) s.rayleigh_alpha = o.alpha;
   if (o.beta >= 0) s.rayleigh_beta = o.beta;
   if (o.air >= 0) s.air_drag = o.air;
@@ -290,6 +292,9 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
     sum.t_solve += st.t_solve;
     sum.t_line_search += st.t_line_search;
     sum.projected += st.projected;
+    sum.factorizations += st.factorizations;
+    sum.cg_iterations += st.cg_iterations;
+    sum.evaluations += st.evaluations;
     sum.elements += st.elements;
   }
   const double n = std::max<size_t>(1, r.steps.size());
@@ -306,12 +311,14 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
     std::fprintf(stderr,
                  "profile (ms per step): assembly %.2f wall [element loop CPU: strain %.2f, material %.2f, chain rule "
                  "%.2f, PSD projection %.2f (%.1f %% of elements), scatter %.2f], solve %.2f, line search %.2f, rest of "
-                 "the step (its start, CCD) %.2f; solver %s, %d pattern analyses\n",
+                 "the step (its start, CCD) %.2f; solver %s, %d pattern analyses; per step %.2f factorizations, %.2f CG "
+                 "iterations on a reused factor, %.2f line-search energies\n",
                  1e3 * sum.t_assemble / n, 1e3 * sum.t_strain / n, 1e3 * sum.t_material / n, 1e3 * sum.t_chain / n,
                  1e3 * sum.t_project / n, sum.elements ? 100.0 * sum.projected / sum.elements : 0.0,
                  1e3 * sum.t_scatter / n, 1e3 * sum.t_solve / n, 1e3 * sum.t_line_search / n,
                  1e3 * (wall - sum.t_assemble - sum.t_solve - sum.t_line_search) / n,
-                 numerics::SparseCholesky(set.solver).name(), r.analyses);
+                 numerics::SparseCholesky(set.solver).name(), r.analyses, sum.factorizations / n,
+                 sum.cg_iterations / n, sum.evaluations / n);
   if (!r.stretch.empty()) {
     std::fprintf(stderr, "stretch   N/m (clamp)   dPsi/ds at the middle\n");
     for (const StretchRow& row : r.stretch)

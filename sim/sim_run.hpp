@@ -17,6 +17,8 @@ struct SimRunOptions {
   double dhat = 0;
   double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
   int friction_updates = -1;
+  int factor_reuse = -1;        // -1: the scene's (sim/newton.hpp, NewtonSettings::reuse_cg)
+  double factor_reuse_tol = 0;  // 0: the scene's
   int resolution = 0, frames = 0, substeps = 0, max_iterations = 0, threads = 0, blas_threads = 0;
   bool no_frames = false, profile = false, quiet = false;
 };

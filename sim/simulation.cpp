@@ -182,16 +182,18 @@ FILE* open_steps_csv(const std::string& dir) {
   if (!csv) throw std::runtime_error(dir + "/steps.csv: cannot write");
   std::fprintf(csv, "step,frame,time,newton_iterations,converged,backtracks,potential_J,kinetic_J,max_speed_m_per_s,wall_ms,"
                     "strain_cpu_ms,material_cpu_ms,chain_cpu_ms,project_cpu_ms,scatter_cpu_ms,projected_elements,"
-                    "assemble_ms,solve_ms,line_search_ms,obstacle_lag_m\n");
+                    "assemble_ms,solve_ms,line_search_ms,factorizations,cg_iterations,reused_iterations,energy_evaluations,"
+                    "obstacle_lag_m\n");
   return csv;
 }
 
 void write_step_row(FILE* csv, const StepRecord& rec) {
-  std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f,%.6g\n", rec.step,
+  std::fprintf(csv, "%d,%d,%.9g,%d,%d,%d,%.12g,%.12g,%.9g,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.4f,%.4f,%.4f,%d,%d,%d,%d,%.6g\n", rec.step,
                rec.frame, rec.time, rec.iterations, int(rec.converged), rec.backtracks, rec.potential, rec.kinetic,
                rec.max_speed, 1e3 * rec.wall, 1e3 * rec.t_strain, 1e3 * rec.t_material, 1e3 * rec.t_chain,
                1e3 * rec.t_project, 1e3 * rec.t_scatter, rec.projected, 1e3 * rec.t_assemble, 1e3 * rec.t_solve,
-               1e3 * rec.t_line_search, rec.obstacle_lag);
+               1e3 * rec.t_line_search, rec.factorizations, rec.cg_iterations, rec.reused, rec.evaluations,
+               rec.obstacle_lag);
   std::fflush(csv);
 }
 
@@ -214,6 +216,10 @@ void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const D
   rec.t_assemble = st.newton.t_assemble;
   rec.t_solve = st.newton.t_solve;
   rec.t_line_search = st.newton.t_line_search;
+  rec.factorizations = st.newton.factorizations;
+  rec.cg_iterations = st.newton.cg_iterations;
+  rec.reused = st.newton.reused;
+  rec.evaluations = st.newton.evaluations;
   if (st.finite) {
     if (std::isfinite(st.newton.shell_energy)) {
       // The solver's last pass evaluated E_shell at x (on the same branches): only the

@@ -41,6 +41,7 @@ struct StepRecord {
   double t_strain = 0, t_material = 0, t_chain = 0, t_project = 0, t_scatter = 0;  // CPU s in the element loop
   double t_assemble = 0, t_solve = 0, t_line_search = 0;                         // wall s
   long projected = 0, elements = 0;
+  int factorizations = 0, cg_iterations = 0, reused = 0, evaluations = 0;  // NewtonStats' counts (sim/newton.hpp)
   double obstacle_lag = 0;       // m: the farthest an obstacle point ends the step from where its path puts it
 };
 

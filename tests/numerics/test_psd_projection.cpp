@@ -29,5 +29,27 @@ TEST(PsdProjection, ClampAndAbsFilterTheNegativeEigenvaluesOnly) {
   EXPECT_EQ(H, psd);
 }
 
+// Diagonal pivoting meets a pivot at rounding level (-1e-15) against an off-diagonal 1e-2: the
+// next pivot grows to 1e11. The 2 x 2 block's eigenvalues are about +-1e-2 (0.5 % of the
+// largest, 2): indefinite, and projected (a check relative to the largest pivot let it through).
+TEST(PsdProjection, PivotGrowthIsNotMistakenForDefiniteness) {
+  Eigen::Matrix3d H;
+  H << 2, 0, 0,
+       0, -1e-15, 1e-2,
+       0, 1e-2, 0;
+  EXPECT_FALSE(nearly_psd<3>(H));
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> before(H);
+  ASSERT_LT(before.eigenvalues()[0], -9e-3);
+  EXPECT_TRUE(project_psd<3>(H));
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> after(H);
+  EXPECT_GE(after.eigenvalues()[0], -1e-15);
+  // A PSD matrix with a rank-deficient block (a zero pivot, as an element's rigid motions give) passes.
+  Eigen::Matrix3d P;
+  P << 2, 0, 0,
+       0, 1, 1,
+       0, 1, 1;
+  EXPECT_TRUE(nearly_psd<3>(P));
+}
+
 }  // namespace
 }  // namespace yarnhom::numerics

@@ -295,7 +295,7 @@ TEST(CliSim, RendersDrawMovingCollidersWhereTheSimulatorHasThem) {
   const auto steps = read_csv(d + "/out/steps.csv");
   ASSERT_EQ(steps.size(), 6u);
   for (const auto& row : steps) {
-    ASSERT_EQ(row.size(), 20u);
+    ASSERT_EQ(row.size(), 24u);
     EXPECT_EQ(row.back(), 0.0);
   }
   const std::string py = python_with_matplotlib();

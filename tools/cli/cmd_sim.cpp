@@ -45,6 +45,16 @@ void add_integrator_options(CLI::App* cmd, sim::SimRunOptions& o) {
       ->check(CLI::IsMember({"auto", "max", "rms"}));
   cmd->add_option("--max-iterations", o.max_iterations, "Newton iterations per step at most (default 100)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_option("--factor-reuse", o.factor_reuse,
+                  "Newton iterations after a step's first solve by conjugate gradients on their own matrix, "
+                  "preconditioned by the step's last Cholesky factor, with at most this many CG iterations before "
+                  "factoring their own matrix; 0: every iteration factors its own (default 0: measured not to pay on "
+                  "the demo's drape, docs/sim.md)")
+      ->check(CLI::Range(0, 1000));
+  cmd->add_option("--factor-reuse-tol", o.factor_reuse_tol,
+                  "CG's stop with --factor-reuse: its error estimate (the preconditioned residual) below this "
+                  "fraction of the step, in --tol-norm, or below a tenth of --tol (default 1e-2)")
+      ->check(CLI::Range(1e-12, 1.0));
   cmd->add_option("--rayleigh-alpha", o.alpha, "Mass-proportional damping, 1/s (default 0)")->check(finite_non_negative());
   cmd->add_option("--rayleigh-beta", o.beta, "Stiffness-proportional damping, s (default 0)")->check(finite_non_negative());
   cmd->add_option("--air", o.air, "Air drag on the normal velocity, kg/(m^2 s) (default 0)")->check(finite_non_negative());
