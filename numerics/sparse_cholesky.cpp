@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "numerics/block_jacobi_pcg.hpp"
 #include "numerics/serial_openmp.hpp"
 #ifdef YARNHOM_HAVE_CHOLMOD
 #include <Eigen/CholmodSupport>
@@ -18,7 +19,12 @@ SolverKind parse_solver_kind(const std::string& name) {
     if (!cholmod_available()) throw std::invalid_argument("--solver cholmod: this build has no CHOLMOD (SuiteSparse)");
     return SolverKind::Cholmod;
   }
-  throw std::invalid_argument("solver '" + name + "': expected auto, ldlt or cholmod");
+  if (name == "pcg") return SolverKind::Pcg;
+  if (name == "pcg-cuda") {
+    if (!pcg_device_factory()) throw std::invalid_argument("--solver pcg-cuda: this build has no CUDA");
+    return SolverKind::PcgCuda;
+  }
+  throw std::invalid_argument("solver '" + name + "': expected auto, ldlt, cholmod, pcg or pcg-cuda");
 }
 
 bool cholmod_available() {
@@ -31,6 +37,15 @@ bool cholmod_available() {
 
 struct SparseCholesky::Impl {
   bool use_cholmod = false;
+  SolverKind kind = SolverKind::Auto;
+  // The iterative kinds.
+  BlockJacobiBuilder builder;
+  BlockCsr system;
+  std::unique_ptr<PcgDevice> device;
+  double tol = 1e-3;
+  int max_iterations = 20000;
+  mutable long long iterations = 0, solves = 0;
+  bool iterative() const { return kind == SolverKind::Pcg || kind == SolverKind::PcgCuda; }
   int analyses = 0;
   std::vector<int> last_outer, last_inner;  // the analysed pattern
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
@@ -52,7 +67,12 @@ struct SparseCholesky::Impl {
 };
 
 SparseCholesky::SparseCholesky(SolverKind kind, Ordering ordering) : impl_(std::make_unique<Impl>()) {
+  impl_->kind = kind;
   impl_->use_cholmod = kind == SolverKind::Cholmod || (kind == SolverKind::Auto && cholmod_available());
+  if (kind == SolverKind::PcgCuda) {
+    if (!pcg_device_factory()) throw std::invalid_argument("solver pcg-cuda: this build has no CUDA");
+    impl_->device = pcg_device_factory()();
+  }
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (ordering != Ordering::Default) {
     impl_->cholmod.cholmod().nmethods = 1;
@@ -72,6 +92,12 @@ SparseCholesky::~SparseCholesky() = default;
 bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   Impl& s = *impl_;
   const bool fresh = !s.same_pattern(A);
+  if (s.iterative()) {
+    if (fresh) s.remember_pattern(A);
+    if (!s.builder.build(A, s.system)) return false;
+    if (s.device) s.device->upload(s.system);
+    return true;
+  }
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (s.use_cholmod) {
     const SerialOpenMP serial;  // CHOLMOD's own OpenMP regions (numerics/serial_openmp.hpp)
@@ -94,6 +120,15 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
 }
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
+  if (impl_->iterative()) {
+    Eigen::VectorXd x(b.size());
+    const BlockPcgResult r = impl_->device ? impl_->device->solve(b.data(), x.data(), impl_->tol, impl_->max_iterations)
+                                      : block_jacobi_pcg(impl_->system, b.data(), x.data(), impl_->tol,
+                                                         impl_->max_iterations);
+    impl_->iterations += r.iterations;
+    ++impl_->solves;
+    return x;
+  }
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (impl_->use_cholmod) return impl_->cholmod.solve(b);
 #endif
@@ -101,7 +136,7 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
 }
 
 double SparseCholesky::factor_nonzeros() const {
-  if (impl_->analyses == 0) return 0.0;
+  if (impl_->analyses == 0 || impl_->iterative()) return 0.0;
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (impl_->use_cholmod) return double(impl_->cholmod.cholmod().lnz);
 #endif
@@ -115,7 +150,18 @@ double SparseCholesky::factor_flops() const {
   return 0.0;
 }
 
-const char* SparseCholesky::name() const { return impl_->use_cholmod ? "cholmod" : "ldlt"; }
+const char* SparseCholesky::name() const {
+  if (impl_->kind == SolverKind::Pcg) return "pcg (block Jacobi, CPU)";
+  if (impl_->kind == SolverKind::PcgCuda) return impl_->device->name();
+  return impl_->use_cholmod ? "cholmod" : "ldlt";
+}
+
+void SparseCholesky::set_iterative(double tolerance, int max_iterations) {
+  impl_->tol = tolerance;
+  impl_->max_iterations = max_iterations;
+}
+long long SparseCholesky::iterations() const { return impl_->iterations; }
+long long SparseCholesky::solves() const { return impl_->solves; }
 
 int SparseCholesky::analyses() const { return impl_->analyses; }
 

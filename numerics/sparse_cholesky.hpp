@@ -13,14 +13,14 @@
 
 namespace yarnhom::numerics {
 
-enum class SolverKind { Auto, Ldlt, Cholmod };
+enum class SolverKind { Auto, Ldlt, Cholmod, Pcg, PcgCuda };
 // CHOLMOD's fill-reducing ordering. Default: CHOLMOD's own choice (AMD, METIS only when AMD's
 // factor is very dense; what every solve of the project uses). Metis, NestedDissection: those
 // orderings alone (CHOLMOD_METIS, CHOLMOD_NESDIS), for benchmarks: on the 16k-triangle drape's
 // matrix 25-28 % fewer flops than AMD, no faster measured, 4x the analysis time
 // (docs/benchmarks.md, "Drape at 16k triangles").
 enum class Ordering { Default, Metis, NestedDissection };
-SolverKind parse_solver_kind(const std::string& name);  // "auto", "ldlt", "cholmod"
+SolverKind parse_solver_kind(const std::string& name);  // "auto", "ldlt", "cholmod", "pcg", "pcg-cuda"
 bool cholmod_available();
 
 class SparseCholesky {
@@ -43,6 +43,11 @@ class SparseCholesky {
   double factor_flops() const;
   // Symbolic analyses done so far.
   int analyses() const;
+  // The iterative kinds' stopping rule (default: relative residual 1e-3, 20,000 iterations), and
+  // what their solves took so far (0 for the direct kinds).
+  void set_iterative(double tolerance, int max_iterations);
+  long long iterations() const;
+  long long solves() const;
 
  private:
   struct Impl;

@@ -19,6 +19,9 @@
 #include "core/number_list.hpp"
 #include "material/material_source.hpp"
 #include "numerics/blas_threads.hpp"
+#ifdef YARNHOM_SIM_CUDA
+#include "cuda/block_jacobi_pcg.hpp"
+#endif
 #include "sim/garment.hpp"
 #include "sim/hessian_model.hpp"
 #include "sim/obj_io.hpp"
@@ -317,8 +320,11 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
                  1e3 * sum.t_project / n, sum.elements ? 100.0 * sum.projected / sum.elements : 0.0,
                  1e3 * sum.t_scatter / n, 1e3 * sum.t_solve / n, 1e3 * sum.t_line_search / n,
                  1e3 * (wall - sum.t_assemble - sum.t_solve - sum.t_line_search) / n,
-                 numerics::SparseCholesky(set.solver).name(), r.analyses, sum.factorizations / n,
+                 r.solver_name.c_str(), r.analyses, sum.factorizations / n,
                  sum.cg_iterations / n, sum.evaluations / n);
+  if (r.solver_solves > 0)
+    std::fprintf(stderr, "sim %s: %s, %.1f CG iterations per solve (relative residual %.1e)\n", s.name.c_str(),
+                 r.solver_name.c_str(), double(r.solver_iterations) / r.solver_solves, set.pcg_tolerance);
   if (!r.stretch.empty()) {
     std::fprintf(stderr, "stretch   N/m (clamp)   dPsi/ds at the middle\n");
     for (const StretchRow& row : r.stretch)
@@ -386,7 +392,11 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   retain_freed_memory();  // every Newton iteration reallocates the same large arrays (core/heap_policy.hpp)
   SimSettings set;
   set.out_dir = o.out;
+#ifdef YARNHOM_SIM_CUDA
+  numerics::register_pcg_device(&cuda::make_pcg_device);  // --solver pcg-cuda
+#endif
   set.solver = parse_solver_kind(o.solver);
+  set.pcg_tolerance = o.pcg_tolerance;
   set.hessian = parse_hessian_model(o.hessian);
   set.eigen_filter = o.eigen_filter == "clamp" ? numerics::EigenFilter::Clamp : numerics::EigenFilter::Abs;
   set.profile = o.profile;

@@ -15,6 +15,7 @@ struct SimRunOptions {
   std::string body;  // tshirt: a body OBJ instead of the mannequin
   double clamp = -1;
   double dhat = 0;
+  double pcg_tolerance = 1e-3;  // --solver pcg / pcg-cuda
   double density = 0, dt = 0, tol = 0, alpha = -1, beta = -1, air = -1, friction = -1, eps_v = 0;
   int friction_updates = -1;
   int factor_reuse = -1;        // -1: the scene's (sim/newton.hpp, NewtonSettings::reuse_cg)

@@ -284,6 +284,7 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
   HessianPattern pat = make_hessian_pattern(P.mesh, D);
   if (P.self_collision) pat.contact = std::make_shared<PaddedPattern>();
   LinearSolver solver(set.solver);
+  solver.set_iterative(set.pcg_tolerance, set.pcg_max_iterations);
 
   const Eigen::VectorXd x0 = flatten(P.mesh.x);
   require_outside_colliders(P, x0);
@@ -388,6 +389,9 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
       R.all_converged = R.all_converged && rec.converged;
       R.analyses = solver.analyses();
+      R.solver_name = solver.name();
+      R.solver_iterations = solver.iterations();
+      R.solver_solves = solver.solves();
       R.steps.push_back(rec);
       if (csv) {
         write_step_row(csv, rec);

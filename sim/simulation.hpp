@@ -23,6 +23,8 @@ namespace yarnhom::sim {
 struct SimSettings {
   std::string out_dir;           // "" = write nothing
   SolverKind solver = SolverKind::Auto;
+  double pcg_tolerance = 1e-3;   // --solver pcg / pcg-cuda: relative residual of each solve
+  int pcg_max_iterations = 20000;
   HessianModel hessian = HessianModel::Split;  // sim/hessian_model.hpp
   numerics::EigenFilter eigen_filter = numerics::EigenFilter::Clamp;  // numerics/psd_projection.hpp
   bool profile = false;          // time split per step (adds clock reads per element)
@@ -67,6 +69,8 @@ struct SimResult {
   double tol_step = 0;           // the Newton tolerance used, m
   StepNorm tol_norm = StepNorm::Max;  // ... and the norm it bounds
   int analyses = 0;              // the sparse Cholesky's pattern analyses (numerics/sparse_cholesky.hpp)
+  std::string solver_name;       // the linear solver that ran
+  long long solver_iterations = 0, solver_solves = 0;  // --solver pcg / pcg-cuda: CG iterations, solves
   // Dynamics: the out-of-balance force of the last state, f = -grad(E_shell + gravity + colliders
   // + contact), per free vertex farther than 2 dhat from every collider (friction may hold a
   // touching vertex), as |f_i| / (m_i g): root mean square and largest; 0 at an equilibrium.

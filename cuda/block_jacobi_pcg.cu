@@ -1,0 +1,256 @@
+// The GPU twin of numerics/block_jacobi_pcg.cpp. One iteration is five launches:
+//   spmv_dot    q = A p (a warp per row) and the blocks' partial sums of p.q
+//   finish_pq   alpha = (r.z) / (p.q), or stop on p.q <= 0 (breakdown)
+//   update      x += alpha p, r -= alpha q, z = M^-1 r (a thread per vertex), partial r.z, r.r
+//   finish_rz   stop when |r| <= tol |b|, else beta = (r.z)_new / (r.z)_old
+//   update_p    p = z + beta p
+// The scalars live on the device, so the host launches a batch of iterations without waiting and
+// reads the stop flag once per batch; every kernel returns at once after the stop. The reductions
+// have a fixed shape (the same sums in the same order every run): bit-identical reruns.
+#include <cuda_runtime.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "cuda/block_jacobi_pcg.hpp"
+#include "cuda/check.cuh"
+
+namespace yarnhom::cuda {
+
+namespace {
+
+constexpr int kThreads = 256;
+constexpr int kBatch = 8;  // iterations launched between two reads of the stop flag
+
+struct Scalars {
+  double rz, rr, bn2, tol2, alpha, beta;
+  int done, breakdown, iterations;
+};
+
+// Sum of v over the block, in thread 0 (fixed order).
+__device__ double block_sum(double v, double* sh) {
+  for (int o = 16; o > 0; o >>= 1) v += __shfl_down_sync(0xffffffffu, v, o);
+  const int warp = threadIdx.x / 32, lane = threadIdx.x % 32;
+  if (lane == 0) sh[warp] = v;
+  __syncthreads();
+  double s = 0;
+  if (threadIdx.x == 0)
+    for (int w = 0; w < blockDim.x / 32; ++w) s += sh[w];
+  __syncthreads();
+  return s;
+}
+
+__global__ void spmv_dot(int n, const int* __restrict__ rp, const int* __restrict__ ci, const double* __restrict__ v,
+                         const double* __restrict__ p, double* __restrict__ q, double* __restrict__ part,
+                         const Scalars* s) {
+  __shared__ double sh[kThreads / 32];
+  if (s->done) return;
+  const int row = blockIdx.x * (kThreads / 32) + threadIdx.x / 32, lane = threadIdx.x % 32;
+  double pq = 0;
+  if (row < n) {
+    double acc = 0;
+    for (int k = rp[row] + lane; k < rp[row + 1]; k += 32) acc += v[k] * p[ci[k]];
+    for (int o = 16; o > 0; o >>= 1) acc += __shfl_down_sync(0xffffffffu, acc, o);
+    if (lane == 0) {
+      q[row] = acc;
+      pq = acc * p[row];
+    }
+  }
+  const double t = block_sum(pq, sh);
+  if (threadIdx.x == 0) part[blockIdx.x] = t;
+}
+
+__global__ void finish_pq(const double* __restrict__ part, int parts, Scalars* s) {
+  __shared__ double sh[kThreads / 32];
+  if (s->done) return;
+  double v = 0;
+  for (int i = threadIdx.x; i < parts; i += blockDim.x) v += part[i];
+  const double pq = block_sum(v, sh);
+  if (threadIdx.x == 0) {
+    if (!(pq > 0)) {
+      s->breakdown = 1;
+      s->done = 1;
+    } else {
+      s->alpha = s->rz / pq;
+    }
+  }
+}
+
+// z = M^-1 r for vertex k; returns r.z and r.r of its three rows.
+__device__ void precondition(int k, const double* __restrict__ bi, const double* r, double* z, double& rz, double& rr) {
+  const double* B = bi + 9 * k;
+  const double r0 = r[3 * k], r1 = r[3 * k + 1], r2 = r[3 * k + 2];
+  const double z0 = B[0] * r0 + B[1] * r1 + B[2] * r2;
+  const double z1 = B[3] * r0 + B[4] * r1 + B[5] * r2;
+  const double z2 = B[6] * r0 + B[7] * r1 + B[8] * r2;
+  z[3 * k] = z0, z[3 * k + 1] = z1, z[3 * k + 2] = z2;
+  rz = r0 * z0 + r1 * z1 + r2 * z2;
+  rr = r0 * r0 + r1 * r1 + r2 * r2;
+}
+
+__global__ void start(int nb, const double* __restrict__ bi, const double* __restrict__ r, double* __restrict__ z,
+                      double* __restrict__ p, double* __restrict__ x, double* __restrict__ part_rz,
+                      double* __restrict__ part_rr) {
+  __shared__ double sh[kThreads / 32];
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  double rz = 0, rr = 0;
+  if (k < nb) {
+    precondition(k, bi, r, z, rz, rr);
+    for (int i = 0; i < 3; ++i) p[3 * k + i] = z[3 * k + i], x[3 * k + i] = 0;
+  }
+  const double a = block_sum(rz, sh);
+  const double b = block_sum(rr, sh);
+  if (threadIdx.x == 0) part_rz[blockIdx.x] = a, part_rr[blockIdx.x] = b;
+}
+
+__global__ void finish_start(const double* part_rz, const double* part_rr, int parts, double tol, Scalars* s) {
+  __shared__ double sh[kThreads / 32];
+  double a = 0, b = 0;
+  for (int i = threadIdx.x; i < parts; i += blockDim.x) a += part_rz[i], b += part_rr[i];
+  a = block_sum(a, sh);
+  b = block_sum(b, sh);
+  if (threadIdx.x == 0) {
+    s->rz = a, s->rr = b, s->bn2 = b, s->tol2 = tol * tol;
+    s->done = b > 0 ? 0 : 1;
+    s->breakdown = 0, s->iterations = 0;
+  }
+}
+
+__global__ void update(int nb, const double* __restrict__ bi, const double* __restrict__ p,
+                       const double* __restrict__ q, double* __restrict__ x, double* __restrict__ r,
+                       double* __restrict__ z, double* __restrict__ part_rz, double* __restrict__ part_rr,
+                       const Scalars* s) {
+  __shared__ double sh[kThreads / 32];
+  if (s->done) return;
+  const double alpha = s->alpha;
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  double rz = 0, rr = 0;
+  if (k < nb) {
+    for (int i = 3 * k; i < 3 * k + 3; ++i) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+    precondition(k, bi, r, z, rz, rr);
+  }
+  const double a = block_sum(rz, sh);
+  const double b = block_sum(rr, sh);
+  if (threadIdx.x == 0) part_rz[blockIdx.x] = a, part_rr[blockIdx.x] = b;
+}
+
+__global__ void finish_rz(const double* part_rz, const double* part_rr, int parts, Scalars* s) {
+  __shared__ double sh[kThreads / 32];
+  if (s->done) return;
+  double a = 0, b = 0;
+  for (int i = threadIdx.x; i < parts; i += blockDim.x) a += part_rz[i], b += part_rr[i];
+  a = block_sum(a, sh);
+  b = block_sum(b, sh);
+  if (threadIdx.x == 0) {
+    ++s->iterations;
+    s->rr = b;
+    if (b <= s->tol2 * s->bn2) {
+      s->done = 1;
+    } else {
+      s->beta = a / s->rz;
+      s->rz = a;
+    }
+  }
+}
+
+__global__ void update_p(int n, const double* __restrict__ z, double* __restrict__ p, const Scalars* s) {
+  if (s->done) return;
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < n) p[i] = z[i] + s->beta * p[i];
+}
+
+template <class T>
+void alloc(T*& p, size_t n, const char* what) {
+  if (p) cudaFree(p);
+  p = nullptr;
+  check(cudaMalloc(&p, std::max<size_t>(n, 1) * sizeof(T)), what);
+}
+
+class DevicePcg final : public numerics::PcgDevice {
+ public:
+  DevicePcg() {
+    int count = 0;
+    if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0)
+      throw CudaError("--solver pcg-cuda: no CUDA GPU can be used (cudaGetDeviceCount)");
+    cudaDeviceProp prop{};
+    check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
+    name_ = std::string("pcg-cuda (block Jacobi, ") + prop.name + ")";
+    check(cudaMalloc(&s_, sizeof(Scalars)), "cudaMalloc (PCG scalars)");
+  }
+  ~DevicePcg() override {
+    for (void* p : {(void*)rp_, (void*)ci_, (void*)v_, (void*)bi_, (void*)x_, (void*)r_, (void*)z_, (void*)p_,
+                    (void*)q_, (void*)pa_, (void*)pb_, (void*)s_})
+      if (p) cudaFree(p);
+  }
+
+  void upload(const numerics::BlockCsr& A) override {
+    const bool same = A.n == n_ && A.row_ptr == row_ptr_ && A.col == col_;
+    if (!same) {
+      n_ = A.n;
+      row_ptr_ = A.row_ptr, col_ = A.col;
+      alloc(rp_, n_ + 1, "cudaMalloc (PCG rows)");
+      alloc(ci_, col_.size(), "cudaMalloc (PCG columns)");
+      alloc(v_, col_.size(), "cudaMalloc (PCG values)");
+      alloc(bi_, 3 * size_t(n_), "cudaMalloc (PCG block inverses)");
+      for (double** p : {&x_, &r_, &z_, &p_, &q_}) alloc(*p, n_, "cudaMalloc (PCG vectors)");
+      parts_ = std::max((n_ + kThreads / 32 - 1) / (kThreads / 32), (n_ / 3 + kThreads - 1) / kThreads);
+      alloc(pa_, parts_, "cudaMalloc (PCG partial sums)");
+      alloc(pb_, parts_, "cudaMalloc (PCG partial sums)");
+      check(cudaMemcpy(rp_, row_ptr_.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice), "cudaMemcpy (PCG rows)");
+      check(cudaMemcpy(ci_, col_.data(), sizeof(int) * col_.size(), cudaMemcpyHostToDevice), "cudaMemcpy (PCG columns)");
+    }
+    check(cudaMemcpy(v_, A.val.data(), sizeof(double) * A.val.size(), cudaMemcpyHostToDevice), "cudaMemcpy (PCG values)");
+    check(cudaMemcpy(bi_, A.block_inv.data(), sizeof(double) * A.block_inv.size(), cudaMemcpyHostToDevice),
+          "cudaMemcpy (PCG block inverses)");
+  }
+
+  numerics::BlockPcgResult solve(const double* b, double* x, double tol, int max_iterations) override {
+    numerics::BlockPcgResult res;
+    if (n_ == 0) return res;
+    const int nb = n_ / 3;
+    const int gv = (nb + kThreads - 1) / kThreads, gr = (n_ + kThreads / 32 - 1) / (kThreads / 32),
+              gn = (n_ + kThreads - 1) / kThreads;
+    check(cudaMemcpy(r_, b, sizeof(double) * n_, cudaMemcpyHostToDevice), "cudaMemcpy (PCG right-hand side)");
+    start<<<gv, kThreads>>>(nb, bi_, r_, z_, p_, x_, pa_, pb_);
+    finish_start<<<1, kThreads>>>(pa_, pb_, gv, tol, s_);
+    Scalars h{};
+    for (int it = 0; it < max_iterations; it += kBatch) {
+      for (int k = 0; k < kBatch && it + k < max_iterations; ++k) {
+        spmv_dot<<<gr, kThreads>>>(n_, rp_, ci_, v_, p_, q_, pa_, s_);
+        finish_pq<<<1, kThreads>>>(pa_, gr, s_);
+        update<<<gv, kThreads>>>(nb, bi_, p_, q_, x_, r_, z_, pa_, pb_, s_);
+        finish_rz<<<1, kThreads>>>(pa_, pb_, gv, s_);
+        update_p<<<gn, kThreads>>>(n_, z_, p_, s_);
+      }
+      check(cudaGetLastError(), "the PCG kernels' launch");
+      check(cudaMemcpy(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost), "cudaMemcpy (PCG scalars)");
+      if (h.done) break;
+    }
+    if (!h.done) check(cudaMemcpy(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost), "cudaMemcpy (PCG scalars)");
+    check(cudaMemcpy(x, x_, sizeof(double) * n_, cudaMemcpyDeviceToHost), "cudaMemcpy (PCG solution)");
+    res.iterations = h.iterations;
+    res.breakdown = h.breakdown != 0;
+    res.relative_residual = h.bn2 > 0 ? std::sqrt(h.rr / h.bn2) : 0.0;
+    res.converged = !res.breakdown && res.relative_residual <= tol;
+    return res;
+  }
+
+  const char* name() const override { return name_.c_str(); }
+
+ private:
+  std::string name_;
+  int n_ = 0, parts_ = 0;
+  std::vector<int> row_ptr_, col_;
+  int *rp_ = nullptr, *ci_ = nullptr;
+  double *v_ = nullptr, *bi_ = nullptr, *x_ = nullptr, *r_ = nullptr, *z_ = nullptr, *p_ = nullptr, *q_ = nullptr,
+         *pa_ = nullptr, *pb_ = nullptr;
+  Scalars* s_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<numerics::PcgDevice> make_pcg_device() { return std::make_unique<DevicePcg>(); }
+
+}  // namespace yarnhom::cuda

@@ -1,0 +1,144 @@
+#include "numerics/block_jacobi_pcg.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace yarnhom::numerics {
+
+namespace {
+PcgDeviceFactory g_device_factory = nullptr;
+// Below this many unknowns the vector operations run on the calling thread: an iteration's six
+// parallel regions cost more than their work (and a descheduled thread stalls each of them).
+constexpr int kParallelMin = 100000;
+
+double dot(int n, const double* a, const double* b) {
+  double s = 0;
+#pragma omp parallel for reduction(+ : s) schedule(static) if (n > kParallelMin)
+  for (int i = 0; i < n; ++i) s += a[i] * b[i];
+  return s;
+}
+}  // namespace
+
+void register_pcg_device(PcgDeviceFactory factory) { g_device_factory = factory; }
+PcgDeviceFactory pcg_device_factory() { return g_device_factory; }
+
+bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& out) {
+  const int n = int(T.rows());
+  const int nnz = int(T.nonZeros());
+  const int* outer = T.outerIndexPtr();
+  const int* inner = T.innerIndexPtr();
+  const bool same = outer_.size() == size_t(n + 1) && inner_.size() == size_t(nnz) &&
+                    std::equal(outer_.begin(), outer_.end(), outer) && std::equal(inner_.begin(), inner_.end(), inner);
+  if (!same) {
+    // Count each row's entries of the whole matrix: (r, c) and, off the diagonal, (c, r).
+    outer_.assign(outer, outer + n + 1);
+    inner_.assign(inner, inner + nnz);
+    out.n = n;
+    out.row_ptr.assign(n + 1, 0);
+    for (int c = 0; c < n; ++c)
+      for (int k = outer[c]; k < outer[c + 1]; ++k) {
+        ++out.row_ptr[inner[k] + 1];
+        if (inner[k] != c) ++out.row_ptr[c + 1];
+      }
+    for (int r = 0; r < n; ++r) out.row_ptr[r + 1] += out.row_ptr[r];
+    std::vector<int> fill(out.row_ptr.begin(), out.row_ptr.end() - 1);
+    out.col.assign(out.row_ptr[n], 0);
+    pos_.assign(nnz, 0), mirror_.assign(nnz, -1), diag_.assign(nnz, -1);
+    for (int c = 0; c < n; ++c)
+      for (int k = outer[c]; k < outer[c + 1]; ++k) {
+        const int r = inner[k];
+        pos_[k] = fill[r]++;
+        out.col[pos_[k]] = c;
+        if (r != c) {
+          mirror_[k] = fill[c]++;
+          out.col[mirror_[k]] = r;
+        }
+        if (r / 3 == c / 3) diag_[k] = (r / 3) * 9 + 3 * (r % 3) + c % 3;
+      }
+    out.val.assign(out.row_ptr[n], 0.0);
+    out.block_inv.assign(3 * n, 0.0);
+  }
+  const double* v = T.valuePtr();
+  std::vector<double> blocks(3 * size_t(n), 0.0);
+  for (int k = 0; k < nnz; ++k) {
+    out.val[pos_[k]] = v[k];
+    if (mirror_[k] >= 0) out.val[mirror_[k]] = v[k];
+    if (diag_[k] >= 0) {
+      // One triangle holds (i, j) or (j, i) of a block: write both.
+      const int b = diag_[k] / 9, i = (diag_[k] % 9) / 3, j = diag_[k] % 3;
+      blocks[9 * b + 3 * i + j] = v[k];
+      blocks[9 * b + 3 * j + i] = v[k];
+    }
+  }
+  bool ok = true;
+#pragma omp parallel for schedule(static) reduction(&& : ok) if (n > kParallelMin)
+  for (int b = 0; b < n / 3; ++b) {
+    const Eigen::Matrix3d B = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&blocks[9 * b]);
+    const Eigen::LLT<Eigen::Matrix3d> llt(B);
+    if (llt.info() != Eigen::Success) {
+      ok = false;
+      continue;
+    }
+    const Eigen::Matrix3d Bi = llt.solve(Eigen::Matrix3d::Identity());
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out.block_inv[9 * b]) = 0.5 * (Bi + Bi.transpose());
+  }
+  return ok;
+}
+
+BlockPcgResult block_jacobi_pcg(const BlockCsr& A, const double* b, double* x, double tol, int max_iterations) {
+  const int n = A.n, nb = n / 3;
+  std::vector<double> r(b, b + n), z(n), p(n), q(n);
+  std::fill(x, x + n, 0.0);
+  auto precondition = [&] {
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (int k = 0; k < nb; ++k) {
+      const double* Bi = &A.block_inv[9 * k];
+      const double r0 = r[3 * k], r1 = r[3 * k + 1], r2 = r[3 * k + 2];
+      z[3 * k] = Bi[0] * r0 + Bi[1] * r1 + Bi[2] * r2;
+      z[3 * k + 1] = Bi[3] * r0 + Bi[4] * r1 + Bi[5] * r2;
+      z[3 * k + 2] = Bi[6] * r0 + Bi[7] * r1 + Bi[8] * r2;
+    }
+  };
+  BlockPcgResult res;
+  res.relative_residual = 1;
+  const double bn = std::sqrt(dot(n, b, b));
+  if (!(bn > 0)) {
+    res.relative_residual = 0;
+    res.converged = true;
+    return res;
+  }
+  precondition();
+  p = z;
+  double rz = dot(n, r.data(), z.data());
+  for (int it = 1; it <= max_iterations; ++it) {
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (int i = 0; i < n; ++i) {
+      double s = 0;
+      for (int k = A.row_ptr[i]; k < A.row_ptr[i + 1]; ++k) s += A.val[k] * p[A.col[k]];
+      q[i] = s;
+    }
+    const double pq = dot(n, p.data(), q.data());
+    if (!(pq > 0)) {
+      res.breakdown = true;
+      break;
+    }
+    const double alpha = rz / pq;
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (int i = 0; i < n; ++i) x[i] += alpha * p[i], r[i] -= alpha * q[i];
+    res.iterations = it;
+    res.relative_residual = std::sqrt(dot(n, r.data(), r.data())) / bn;
+    if (res.relative_residual <= tol) {
+      res.converged = true;
+      break;
+    }
+    precondition();
+    const double rz1 = dot(n, r.data(), z.data());
+    const double beta = rz1 / rz;
+    rz = rz1;
+#pragma omp parallel for schedule(static) if (n > kParallelMin)
+    for (int i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+  }
+  return res;
+}
+
+}  // namespace yarnhom::numerics

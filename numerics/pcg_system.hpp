@@ -1,0 +1,47 @@
+#pragma once
+// What both twins of the block-Jacobi preconditioned conjugate gradients take
+// (numerics/block_jacobi_pcg.hpp on the CPU, cuda/block_jacobi_pcg.cu on the GPU), and the hook
+// through which a room above numerics/ lends SparseCholesky its GPU twin. No Eigen here: the
+// .cu files include it (docs/layout.md, "Compiler flags").
+//
+// The system is the continuum simulator's step matrix A = M / h^2 + K (symmetric positive
+// definite after the PSD projection of K), 3 unknowns per vertex. The preconditioner is the
+// inverse of A's 3 x 3 diagonal blocks (block Jacobi): cheap to build and to apply, and
+// parallel to the last row, which is what a GPU needs; a factorization's fill is what makes the
+// direct solve cost ~160 ms at 16k triangles on 2 cores (docs/benchmarks.md).
+#include <memory>
+#include <vector>
+
+namespace yarnhom::numerics {
+
+struct BlockCsr {
+  int n = 0;                      // unknowns, a multiple of 3
+  std::vector<int> row_ptr, col;  // the whole symmetric matrix, CSR (both triangles)
+  std::vector<double> val;
+  std::vector<double> block_inv;  // [n / 3][3][3], row-major: the inverses of A's diagonal blocks
+};
+
+struct BlockPcgResult {
+  int iterations = 0;
+  double relative_residual = 0;  // |b - A x| / |b| at the end (1 for b = 0 is reported as 0)
+  bool converged = false;        // relative_residual <= the tolerance
+  bool breakdown = false;        // p . A p <= 0 met: A is not positive definite along p
+};
+
+// The GPU twin's interface (implemented in cuda/, registered from a room above it).
+class PcgDevice {
+ public:
+  virtual ~PcgDevice() = default;
+  // Copies the system to the device; the pattern (row_ptr, col) is uploaded again only when it
+  // differs from the last one's.
+  virtual void upload(const BlockCsr& A) = 0;
+  // x = A^-1 b to the relative residual tol (host arrays of n), at most max_iterations.
+  virtual BlockPcgResult solve(const double* b, double* x, double tol, int max_iterations) = 0;
+  virtual const char* name() const = 0;
+};
+using PcgDeviceFactory = std::unique_ptr<PcgDevice> (*)();
+// Set once by the program (sim/ when the build has CUDA); null when there is no GPU twin.
+void register_pcg_device(PcgDeviceFactory factory);
+PcgDeviceFactory pcg_device_factory();
+
+}  // namespace yarnhom::numerics
