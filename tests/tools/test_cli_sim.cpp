@@ -356,6 +356,20 @@ TEST(CliSim, BadInputsAreRefusedNamingTheProblem) {
   r = run("sim drape -o " + d + "/o --material " + d + "/mat.json --friction -1");
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_NE(r.out.find("--friction"), std::string::npos) << r.out;
+  for (const std::string o : {"--pcg-tolerance 0", "--pcg-tolerance 0.9", "--solver qr"}) {
+    r = run("sim drape -o " + d + "/o --material " + d + "/mat.json " + o);
+    EXPECT_NE(r.status, 0) << o << ": " << r.out;
+    EXPECT_NE(r.out.find(o.substr(0, o.find(' '))), std::string::npos) << r.out;
+  }
+  // The GPU solver: refused naming it where the build has no CUDA or the machine no GPU, else it runs.
+  r = run("sim drape -o " + d + "/o --material " + d +
+          "/mat.json --density 0.3 --resolution 4 --frames 1 --render none --solver pcg-cuda");
+  if (r.status != 0) {
+    EXPECT_TRUE(r.out.find("pcg-cuda: this build has no CUDA") != std::string::npos ||
+                r.out.find("pcg-cuda: no CUDA GPU can be used") != std::string::npos) << r.out;
+  } else {
+    EXPECT_NE(r.out.find("pcg-cuda (block Jacobi"), std::string::npos) << r.out;
+  }
   r = run("sim tumble -o " + d + "/o --material " + d + "/mat.json");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("not a built-in scene"), std::string::npos) << r.out;
