@@ -59,7 +59,9 @@ bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& o
     out.block_inv.assign(3 * n, 0.0);
   }
   const double* v = T.valuePtr();
-  std::vector<double> blocks(3 * size_t(n), 0.0);
+  // The diagonal blocks are gathered into block_inv and inverted in place below.
+  std::vector<double>& blocks = out.block_inv;
+  std::fill(blocks.begin(), blocks.end(), 0.0);
   for (int k = 0; k < nnz; ++k) {
     out.val[pos_[k]] = v[k];
     if (mirror_[k] >= 0) out.val[mirror_[k]] = v[k];
@@ -73,14 +75,14 @@ bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& o
   bool ok = true;
 #pragma omp parallel for schedule(static) reduction(&& : ok) if (n > kParallelMin)
   for (int b = 0; b < n / 3; ++b) {
-    const Eigen::Matrix3d B = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&blocks[9 * b]);
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> B(&blocks[9 * b]);
     const Eigen::LLT<Eigen::Matrix3d> llt(B);
     if (llt.info() != Eigen::Success) {
       ok = false;
       continue;
     }
     const Eigen::Matrix3d Bi = llt.solve(Eigen::Matrix3d::Identity());
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(&out.block_inv[9 * b]) = 0.5 * (Bi + Bi.transpose());
+    B = 0.5 * (Bi + Bi.transpose());
   }
   return ok;
 }

@@ -107,4 +107,12 @@ inline MaterialFn poly_material_fn(const std::map<std::string, Poly2>& terms, do
   return baked_material_fn(mat);
 }
 
+// simple_cloth_terms with a box that reaches s = -0.5, built once: the sim tests' scenes (a
+// stretched strip's lateral contraction reaches s = -0.2 at 170 %, a drape's folds more) stay
+// inside it.
+inline const MaterialFn& simple_cloth_material() {
+  static const MaterialFn m = poly_material_fn(simple_cloth_terms(), -0.5);
+  return m;
+}
+
 }  // namespace yarnhom::test

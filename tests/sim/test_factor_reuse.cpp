@@ -13,10 +13,7 @@ using namespace yarnhom::sim;
 
 namespace {
 
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
+const MaterialFn& material() { return test::simple_cloth_material(); }
 
 struct Totals {
   int iterations = 0, factorizations = 0, cg = 0, reused = 0;

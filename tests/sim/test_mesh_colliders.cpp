@@ -23,10 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
+const MaterialFn& material() { return test::simple_cloth_material(); }
 
 fs::path scratch(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("yarnhom_meshcol_" + std::to_string(::getpid()) + "_" + name);

@@ -11,7 +11,7 @@ using namespace yarnhom;
 using namespace yarnhom::sim;
 
 TEST(PcgSolver, OneSolveDrapeFollowsTheDirectSolversTrajectory) {
-  const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
+  const MaterialFn& m = test::simple_cloth_material();
   Scene s = builtin_scene("drape", 10);
   s.frames = 20;
   s.integrator = Integrator::Linearized;

@@ -19,10 +19,7 @@ namespace {
 // inside it. (It was moved there when bake repaired 2D tables in a boundary layer, which
 // rewrote the Poisson coupling 3 s_x s_y where it falls outward along -s_y; bake no longer
 // changes 2D tables, docs/bake.md.)
-const MaterialFn& material() {
-  static const MaterialFn m = test::poly_material_fn(test::simple_cloth_terms(), -0.5);
-  return m;
-}
+const MaterialFn& material() { return test::simple_cloth_material(); }
 
 }  // namespace
 
