@@ -5,6 +5,7 @@
 #include <limits>
 #include <tuple>
 
+#include "core/scope_profile.hpp"
 #include "numerics/contact_pairs.hpp"
 #include "sim/contact.hpp"
 
@@ -186,6 +187,7 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   ++queries_;
   if (valid_ && covers(xlo_, xhi_, x0) && covers(xlo_, xhi_, x1) && covers(ylo_, yhi_, y0) && covers(ylo_, yhi_, y1))
     return;
+  prof::Scope ps("broad phase: a region built");
   const double margin = 0.1 * P.dhat;
   xlo_ = x0.cwiseMin(x1).array() - margin;
   xhi_ = x0.cwiseMax(x1).array() + margin;

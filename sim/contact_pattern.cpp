@@ -1,8 +1,50 @@
 #include "sim/contact_pattern.hpp"
 
 #include <algorithm>
+#include <cstdint>
+
+#include "core/scope_profile.hpp"
 
 namespace yarnhom::sim {
+
+namespace {
+
+// Below this many columns one thread builds and fills (a fork costs more than the work).
+constexpr Eigen::Index kParallelColumns = 3072;
+
+// The sorted union of a few sorted row lists, written to out (null: only counted); its length.
+// Column j's lists: A's rows, B's rows (B may be null), and the pad's blocks' rows (3 fa .. 3 fa + 2
+// for each fa of the column's block, fa ascending).
+int merge_rows(const int* a, const int* ae, const int* b, const int* be, const int* fa, const int* fae, int* out) {
+  int n = 0, last = -1;
+  int pr = fa < fae ? 3 * *fa : -1, pk = 0;  // the pad's next row: block *fa, row pk of 3
+  auto emit = [&](int r) {
+    if (r == last) return;
+    if (out) out[n] = r;
+    ++n;
+    last = r;
+  };
+  while (a < ae || b < be || pr >= 0) {
+    int r = INT32_MAX;
+    if (a < ae) r = std::min(r, *a);
+    if (b < be) r = std::min(r, *b);
+    if (pr >= 0) r = std::min(r, pr);
+    emit(r);
+    if (a < ae && *a == r) ++a;
+    if (b < be && *b == r) ++b;
+    if (pr == r) {
+      if (++pk == 3) {
+        pk = 0;
+        pr = ++fa < fae ? 3 * *fa : -1;
+      } else {
+        ++pr;
+      }
+    }
+  }
+  return n;
+}
+
+}  // namespace
 
 bool PaddedPattern::scatter(const Eigen::SparseMatrix<double>& A) {
   if (M_.rows() != A.rows() || M_.cols() != A.cols()) return false;
@@ -25,76 +67,121 @@ bool PaddedPattern::scatter(const Eigen::SparseMatrix<double>& A) {
   return true;
 }
 
+void PaddedPattern::rebuild(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>* B, const Pad& pad) {
+  prof::Scope ps("kept pattern: rebuild");
+  // The pad's blocks (fa > fb) by block column, rows ascending, each once.
+  std::vector<std::pair<int, int>> blocks;
+  {
+    prof::Scope pp("kept pattern: its pad (pairs within 2 dhat)");
+    blocks = pad();
+  }
+  // A counting sort by column block (hundreds of thousands of blocks, a few per column), then
+  // each column's few rows sorted and made unique.
+  const Eigen::Index n = A.cols(), nb = (n + 2) / 3;
+  std::vector<int> count(size_t(nb) + 1, 0);
+  for (const auto& [fa, fb] : blocks)
+    if (fa > fb && 3 * Eigen::Index(fa) < A.rows()) ++count[size_t(fb) + 1];
+  for (Eigen::Index c = 0; c < nb; ++c) count[size_t(c) + 1] += count[size_t(c)];
+  std::vector<int> brow(size_t(count[size_t(nb)])), fill(count.begin(), count.end() - 1);
+  for (const auto& [fa, fb] : blocks)
+    if (fa > fb && 3 * Eigen::Index(fa) < A.rows()) brow[size_t(fill[size_t(fb)]++)] = fa;
+  std::vector<int> bstart(size_t(nb) + 1, 0);
+  for (Eigen::Index c = 0; c < nb; ++c) {  // sorted, unique, compacted in place
+    int* b = brow.data() + count[size_t(c)];
+    int* e = brow.data() + count[size_t(c) + 1];
+    std::sort(b, e);
+    e = std::unique(b, e);
+    int* to = brow.data() + bstart[size_t(c)];
+    const int k = int(e - b);
+    std::copy(b, e, to);
+    bstart[size_t(c) + 1] = bstart[size_t(c)] + k;
+  }
+  // Column by column: the union of A's, B's and the pad's rows, counted, then written.
+  const int *ao = A.outerIndexPtr(), *ai = A.innerIndexPtr();
+  const int *bo = B ? B->outerIndexPtr() : nullptr, *bi = B ? B->innerIndexPtr() : nullptr;
+  auto column = [&](Eigen::Index j, int* out) {
+    const int* pa = brow.data() + bstart[size_t(j / 3)];
+    const int* pe = brow.data() + bstart[size_t(j / 3) + 1];
+    return merge_rows(ai + ao[j], ai + ao[j + 1], B ? bi + bo[j] : nullptr, B ? bi + bo[j + 1] : nullptr, pa, pe, out);
+  };
+  std::vector<int> outer(size_t(n) + 1, 0);
+#pragma omp parallel for schedule(static) if (n >= kParallelColumns)
+  for (Eigen::Index j = 0; j < n; ++j) outer[size_t(j) + 1] = column(j, nullptr);
+  for (Eigen::Index j = 0; j < n; ++j) outer[size_t(j) + 1] += outer[size_t(j)];
+  M_.resize(A.rows(), n);
+  M_.makeCompressed();
+  M_.resizeNonZeros(outer[size_t(n)]);
+  std::copy(outer.begin(), outer.end(), M_.outerIndexPtr());
+  int* mi = M_.innerIndexPtr();
+  double* mv = M_.valuePtr();
+#pragma omp parallel for schedule(static) if (n >= kParallelColumns)
+  for (Eigen::Index j = 0; j < n; ++j) {
+    column(j, mi + outer[size_t(j)]);
+    std::fill(mv + outer[size_t(j)], mv + outer[size_t(j) + 1], 0.0);
+  }
+  ++rebuilds_;
+}
+
 Eigen::SparseMatrix<double>& PaddedPattern::embed(const Eigen::SparseMatrix<double>& A, const Pad& pad) {
   ++uses_;
   if (scatter(A)) return M_;
-  // Rebuild (A compressed: its outer index is its column starts): A's entries and the pad's full 3x3 blocks (row block fa > column block fb).
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(size_t(A.nonZeros()));
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) t.emplace_back(int(it.index()), int(j), 0.0);
-  for (const auto& [fa, fb] : pad())
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) t.emplace_back(3 * fa + r, 3 * fb + c, 0.0);
-  M_.resize(A.rows(), A.cols());
-  M_.setFromTriplets(t.begin(), t.end());
-  M_.makeCompressed();
-  ++rebuilds_;
+  rebuild(A, nullptr, pad);
   scatter(A);
   return M_;
 }
 
+bool PaddedPattern::sum_into(const Eigen::SparseMatrix<double>& H, const Eigen::SparseMatrix<double>& B) {
+  const int* mo = M_.outerIndexPtr();
+  const int* mi = M_.innerIndexPtr();
+  double* mv = M_.valuePtr();
+  const int *ho = H.outerIndexPtr(), *hi = H.innerIndexPtr(), *bo = B.outerIndexPtr(), *bi = B.innerIndexPtr();
+  const double *hv = H.valuePtr(), *bv = B.valuePtr();
+  const Eigen::Index ncols = H.outerSize();
+  int outside = 0;
+  // Per column: H's and C's sorted entries merged (as Eigen's sum does), then placed on M_'s
+  // sorted column, zeros between.
+#pragma omp parallel for schedule(static) reduction(+ : outside) if (ncols >= kParallelColumns)
+  for (Eigen::Index j = 0; j < ncols; ++j) {
+    int p = mo[j];
+    const int end = mo[j + 1];
+    int a = ho[j], b = bo[j];
+    const int ae = ho[j + 1], be = bo[j + 1];
+    while (a < ae || b < be) {
+      int row;
+      double v;
+      if (b == be || (a < ae && hi[a] < bi[b])) {
+        row = hi[a];
+        v = hv[a++] + 0.0;
+      } else if (a == ae || bi[b] < hi[a]) {
+        row = bi[b];
+        v = 0.0 + bv[b++];
+      } else {
+        row = hi[a];
+        v = hv[a++] + bv[b++];
+      }
+      while (p < end && mi[p] < row) mv[p++] = 0.0;
+      if (p == end || mi[p] != row) {
+        ++outside;
+        break;
+      }
+      mv[p++] = v;
+    }
+    while (p < end) mv[p++] = 0.0;
+  }
+  return outside == 0;
+}
+
 Eigen::SparseMatrix<double>& PaddedPattern::embed_sum(const Eigen::SparseMatrix<double>& H,
                                                       const Eigen::SparseMatrix<double>& C, const Pad& pad) {
+  ++uses_;
+  const Eigen::SparseMatrix<double> Cc = C.isCompressed() ? Eigen::SparseMatrix<double>() : Eigen::SparseMatrix<double>(C);
+  const Eigen::SparseMatrix<double>& B = C.isCompressed() ? C : Cc;
   const bool fits = M_.rows() == H.rows() && M_.cols() == H.cols() && C.rows() == H.rows() && C.cols() == H.cols();
-  if (fits) {
-    const Eigen::SparseMatrix<double> Cc = C.isCompressed() ? Eigen::SparseMatrix<double>() : Eigen::SparseMatrix<double>(C);
-    const Eigen::SparseMatrix<double>& B = C.isCompressed() ? C : Cc;
-    const int* mo = M_.outerIndexPtr();
-    const int* mi = M_.innerIndexPtr();
-    double* mv = M_.valuePtr();
-    const int *ho = H.outerIndexPtr(), *hi = H.innerIndexPtr(), *bo = B.outerIndexPtr(), *bi = B.innerIndexPtr();
-    const double *hv = H.valuePtr(), *bv = B.valuePtr();
-    const Eigen::Index ncols = H.outerSize();
-    int outside = 0;
-    // Per column: H's and C's sorted entries merged (as Eigen's sum does), then placed on M_'s
-    // sorted column, zeros between.
-#pragma omp parallel for schedule(static) reduction(+ : outside) if (ncols >= 3072)
-    for (Eigen::Index j = 0; j < ncols; ++j) {
-      int p = mo[j];
-      const int end = mo[j + 1];
-      int a = ho[j], b = bo[j];
-      const int ae = ho[j + 1], be = bo[j + 1];
-      while (a < ae || b < be) {
-        int row;
-        double v;
-        if (b == be || (a < ae && hi[a] < bi[b])) {
-          row = hi[a];
-          v = hv[a++] + 0.0;
-        } else if (a == ae || bi[b] < hi[a]) {
-          row = bi[b];
-          v = 0.0 + bv[b++];
-        } else {
-          row = hi[a];
-          v = hv[a++] + bv[b++];
-        }
-        while (p < end && mi[p] < row) mv[p++] = 0.0;
-        if (p == end || mi[p] != row) {
-          ++outside;
-          break;
-        }
-        mv[p++] = v;
-      }
-      while (p < end) mv[p++] = 0.0;
-    }
-    if (outside == 0) {
-      ++uses_;
-      return M_;
-    }
-  }
-  Eigen::SparseMatrix<double> sum = H + C;
-  sum.makeCompressed();
-  return embed(sum, pad);
+  if (fits && sum_into(H, B)) return M_;
+  // A coupling outside the kept pattern: the pattern of H + C and the pad, then the sum on it.
+  rebuild(H, &B, pad);
+  sum_into(H, B);
+  return M_;
 }
 
 }  // namespace yarnhom::sim

@@ -28,9 +28,9 @@ class PaddedPattern {
   // next call; its values may be changed (a diagonal shift).
   Eigen::SparseMatrix<double>& embed(const Eigen::SparseMatrix<double>& A, const Pad& pad);
   // embed(H + C) (H compressed, C any), each entry's value that of Eigen's sum (h + c, h + 0,
-  // 0 + c): while the kept pattern holds both, one pass over the columns on the OpenMP threads
-  // writes the sum straight into it (no matrix H + C formed; the same values on any thread
-  // count); else H + C is formed and embedded as above.
+  // 0 + c): one pass over the columns on the OpenMP threads writes the sum straight into the
+  // kept pattern (no matrix H + C formed; the same values on any thread count); where C has a
+  // coupling outside it, the pattern is rebuilt from H's, C's and the pad's first.
   Eigen::SparseMatrix<double>& embed_sum(const Eigen::SparseMatrix<double>& H, const Eigen::SparseMatrix<double>& C,
                                          const Pad& pad);
 
@@ -39,6 +39,10 @@ class PaddedPattern {
 
  private:
   bool scatter(const Eigen::SparseMatrix<double>& A);  // false when A has an entry outside M_
+  bool sum_into(const Eigen::SparseMatrix<double>& H, const Eigen::SparseMatrix<double>& B);  // the same for H + B
+  // M_'s pattern: the union of A's, B's (when given) and the pad's full 3 x 3 blocks, built
+  // column by column on the OpenMP threads (a sorted merge per column; values zero).
+  void rebuild(const Eigen::SparseMatrix<double>& A, const Eigen::SparseMatrix<double>* B, const Pad& pad);
   Eigen::SparseMatrix<double> M_;
   int rebuilds_ = 0, uses_ = 0;
 };

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
+#include "core/scope_profile.hpp"
 #include "sim/hinge_angles.hpp"
 
 namespace yarnhom::sim {
@@ -77,6 +79,8 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
                               double potential_at_x, ObstacleMotion* obstacles) {
   StepState S;
   S.dynamic = true;
+  std::optional<prof::Scope> ps_start;
+  ps_start.emplace("step start (before the first solve)");
   S.theta_ref = step_branches(P.mesh, x, hinges);
   S.h = h;
   S.x_prev = x;
@@ -133,6 +137,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     if (!in_solve) apply_targets(D, target, xs);
     double t_s = 1, t_n = 1;
     if (contact) {
+      prof::Scope ps("step start: make the moves safe");
       t_s = make_move_safe(P, D.free_index, x, xs, y0, y1, 6, cache);
       t_n = make_move_safe(P, D.free_index, x, xn, y0, y1, 6, cache);
     }
@@ -159,6 +164,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
       t_first = t_s;
     }
   }
+  ps_start.reset();
   StepStats out;
   // A prescribed move cut short (CCD, or an infinite potential on the way) goes on in another
   // solve from where the last one ended, at most max_stages solves in all.

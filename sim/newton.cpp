@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/scope_profile.hpp"
 #include "numerics/newton.hpp"
 #include "numerics/pcg.hpp"
 #include "sim/contact_pattern.hpp"
@@ -78,8 +79,12 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
     contact.clear();
     const bool lift = it == 0 && move.size() > 0;
-    double E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr,
-                                     &st.shell_energy, &contact, lift ? &move : nullptr, lift ? &coupling : nullptr);
+    double E;
+    {
+      prof::Scope ps("assembly: potential derivatives");
+      E = potential_derivatives(P, D, pat, S, x, grad, H.valuePtr(), profile ? &st.shell : nullptr, &st.shell_energy,
+                                &contact, lift ? &move : nullptr, lift ? &coupling : nullptr);
+    }
     st.energy = E;
     Eigen::VectorXd g = gather_free(D, grad);
     // Contact pairs couple vertices the mesh does not: their triplets are added to the pattern's
@@ -89,8 +94,11 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     Eigen::SparseMatrix<double> Hc, Hsum;
     std::vector<int> diag;
     if (!contact.empty()) {
-      Hc.resize(H.rows(), H.cols());
-      Hc.setFromTriplets(contact.begin(), contact.end());
+      {
+        prof::Scope ps("assembly: contact and seam triplets to a matrix");
+        Hc.resize(H.rows(), H.cols());
+        Hc.setFromTriplets(contact.begin(), contact.end());
+      }
       // With a kept pattern, the same values on it (sim/contact_pattern.hpp), the sum written
       // straight into it: the solver's analysis is reused while the contacts stay within it.
       // Its pad: the couplings of the pairs within 2 dhat at x.
@@ -99,6 +107,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
         Hsum.makeCompressed();
         A = &Hsum;
       } else {
+        prof::Scope ps_embed("assembly: H + contact on the kept pattern");
         A = &pat.contact->embed_sum(H, Hc, [&] {
           const Eigen::VectorXd y = solve_obstacles(P, S);
           std::vector<std::pair<int, int>> blocks;
@@ -212,8 +221,14 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     // Armijo backtracking from the collider-limited step (CCD as a step filter).
     Eigen::VectorXd xn, xt;
     double shell_n = NAN, shell_t = NAN;  // E_shell at xn and xt (the accepted trial is the last evaluated)
+    double feasible;
+    {
+      prof::Scope ps("line search: CCD of the step");
+      feasible = max_feasible_step(P, x, p, &S);
+    }
+    prof::Scope ps_trials("line search: trials and extension");
     const numerics::LineSearchResult ls = numerics::armijo_backtracking(
-        E, slope, max_feasible_step(P, x, p, &S),
+        E, slope, feasible,
         [&](double alpha) {
           xn = x + alpha * p;
           return potential_value(P, D, S, xn, &shell_n);

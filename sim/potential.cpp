@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/scope_profile.hpp"
 #include "numerics/barrier.hpp"
 #include "sim/garment.hpp"
 
@@ -99,17 +100,28 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
 
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
                        double* shell, const double* known_shell) {
-  double E = known_shell ? *known_shell
-                         : shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+  double E;
+  {
+    prof::Scope ps("energy: elements");
+    E = known_shell ? *known_shell
+                    : shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+  }
   if (shell) *shell = E;
-  for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
-  for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
+  {
+    prof::Scope ps("energy: vertex terms");
+    for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
+    for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
+  }
   if (has_contact(P)) {
+    prof::Scope ps("energy: contact");
     const Eigen::VectorXd y = solve_obstacles(P, S);
     E += contact_energy(P, D.free_index, x, y, nullptr, nullptr, S.contact_cache.get());
     if (!S.pair_friction.empty()) E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y);
   }
-  if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time);
+  if (!P.stitches.empty()) {
+    prof::Scope ps("energy: seams");
+    E += seam_energy(P, D.free_index, x, S.time);
+  }
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
 }
 
@@ -118,9 +130,14 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
                              double* shell, std::vector<Eigen::Triplet<double>>* contact, const Eigen::VectorXd* move,
                              Eigen::VectorXd* coupling) {
   grad.setZero(x.size());
-  double E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
-                                      S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter, move, coupling);
+  double E;
+  {
+    prof::Scope ps("derivatives: elements");
+    E = shell_energy_derivatives(P.mesh, P.rest, P.material, x, grad, values ? &pat : nullptr, values, timings, P.hessian,
+                                 S.theta_ref.empty() ? nullptr : S.theta_ref.data(), P.eigen_filter, move, coupling);
+  }
   if (shell) *shell = E;
+  prof::Scope ps_rest("derivatives: all but the elements");
   for (int v = 0; v < P.mesh.num_vertices(); ++v) {
     Eigen::Vector3d g;
     Eigen::Matrix3d H;
@@ -138,13 +155,17 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
     if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
   }
   if (has_contact(P)) {
+    prof::Scope ps("derivatives: contact");
     const Eigen::VectorXd y = solve_obstacles(P, S);
     E += contact_energy(P, D.free_index, x, y, &grad, contact, S.contact_cache.get());
     if (!S.pair_friction.empty())
       E += pair_friction_energy(S.pair_friction, S.friction_eps, D.free_index, x, y, &grad, contact,
                                 S.pair_friction_majorize);
   }
-  if (!P.stitches.empty()) E += seam_energy(P, D.free_index, x, S.time, &grad, contact);
+  if (!P.stitches.empty()) {
+    prof::Scope ps("derivatives: seams");
+    E += seam_energy(P, D.free_index, x, S.time, &grad, contact);
+  }
   return E + rayleigh_beta_term(P, D, S, x, &grad, values);
 }
 
@@ -175,6 +196,7 @@ Eigen::VectorXd solve_obstacles(const Problem& P, const StepState& S) {
 }
 
 double max_feasible_step(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& p, const StepState* S) {
+  prof::Scope ps("CCD (max_feasible_step)");
   double tc = 1.0;
   if (S && has_contact(P)) {
     const Eigen::VectorXd y = solve_obstacles(P, *S);

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/scope_profile.hpp"
 #include "core/console.hpp"
 #include "core/file_checks.hpp"
 #include "core/heap_policy.hpp"
@@ -322,6 +323,13 @@ void print_summary(const SimRunOptions& o, const Scene& s, const SimSettings& se
                  1e3 * (wall - sum.t_assemble - sum.t_solve - sum.t_line_search) / n,
                  r.solver_name.c_str(), r.analyses, sum.factorizations / n,
                  sum.cg_iterations / n, sum.evaluations / n);
+  if (o.profile) {
+    // The named parts (core/scope_profile.hpp): wall time on the stepping thread, each part
+    // including the parts nested in it.
+    std::fprintf(stderr, "profile parts (ms per step, wall, nested parts included; calls per step):\n");
+    for (const prof::Entry& e : prof::entries())
+      std::fprintf(stderr, "  %8.2f  %6.2f  %s\n", 1e3 * e.seconds / n, double(e.calls) / n, e.name.c_str());
+  }
   if (r.solver_solves > 0)
     std::fprintf(stderr, "sim %s: %s, %.1f CG iterations per solve (relative residual %.1e)\n", s.name.c_str(),
                  r.solver_name.c_str(), double(r.solver_iterations) / r.solver_solves, set.pcg_tolerance);
@@ -400,6 +408,8 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   set.hessian = parse_hessian_model(o.hessian);
   set.eigen_filter = o.eigen_filter == "clamp" ? numerics::EigenFilter::Clamp : numerics::EigenFilter::Abs;
   set.profile = o.profile;
+  prof::reset();
+  prof::set_enabled(o.profile);
   set.write_frames = !o.no_frames;
   prepare_sim_folder(o, s, mpath);
   write_scene_info(o.out, s);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.hpp"
+#include "core/scope_profile.hpp"
 #include "sim/contact.hpp"
 #include "sim/contact_pattern.hpp"
 #include "sim/garment.hpp"
@@ -377,7 +378,10 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
         st = static_solve(P, D, pat, solver, x, target, nopt, set.profile, &hinges, &previous);
       }
       rec.wall = std::chrono::duration<double>(Clock::now() - t0).count();
-      record_step(rec, st, P, D, x, v, hinges);
+      {
+        prof::Scope ps("after the step: its record");
+        record_step(rec, st, P, D, x, v, hinges);
+      }
       R.obstacles = motion.y;
       // An obstacle the cloth held back (CCD left no safe move) lags behind its path.
       if (dynamic && scene.integrator != Integrator::BaraffWitkin && motion.target.size() == motion.y.size())
@@ -385,8 +389,10 @@ SimResult run_simulation(const Scene& scene, const MaterialFn& material, double 
           rec.obstacle_lag = std::max(rec.obstacle_lag, (motion.y.segment<3>(k) - motion.target.segment<3>(k)).norm());
       last_potential = rec.potential;
       R.finite = R.finite && st.finite && std::isfinite(rec.potential);
-      if (R.finite)
+      if (R.finite) {
+        prof::Scope ps("after the step: strain check");
         if (auto why = unphysical_strain(P, x, &hinges)) R.diverged = *why;
+      }
       R.all_converged = R.all_converged && rec.converged;
       R.analyses = solver.analyses();
       R.solver_name = solver.name();

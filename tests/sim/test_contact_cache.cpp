@@ -281,3 +281,47 @@ TEST(ContactCache, PaddedPatternSumsIntoTheKeptPatternAsEmbedDoes) {
   EXPECT_EQ(M.coeff(n - 1, 0), 0.25);
   EXPECT_EQ((Eigen::SparseMatrix<double>(M - Eigen::SparseMatrix<double>(H + C))).coeffs().cwiseAbs().maxCoeff(), 0.0);
 }
+
+// A rebuilt pattern is exactly the union of the matrix's entries and the pad's full 3 x 3 blocks
+// below the diagonal (repeated blocks once, blocks on or above it ignored), the same on 1 and 3
+// threads: the pattern a setFromTriplets of both gives.
+TEST(ContactCache, PaddedPatternRebuildHoldsTheUnionOfTheMatrixAndThePad) {
+  const int n = 3600;  // 1,200 blocks: the threaded pass
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<Eigen::Triplet<double>> th;
+  for (int i = 0; i < n; ++i) {
+    th.emplace_back(i, i, 10 + U(rng));
+    for (int k = 1; k <= 5 && i + k < n; ++k) th.emplace_back(i + k, i, U(rng));
+  }
+  Eigen::SparseMatrix<double> H(n, n);
+  H.setFromTriplets(th.begin(), th.end());
+  std::vector<std::pair<int, int>> blocks;
+  for (int k = 0; k < 3000; ++k) {
+    const int fb = int(rng() % (n / 3 - 30)), fa = fb + 1 + int(rng() % 29);
+    blocks.emplace_back(fa, fb);
+    if (k % 7 == 0) blocks.emplace_back(fa, fb);  // repeated
+    if (k % 11 == 0) blocks.emplace_back(fb, fa);  // above the diagonal: not held
+  }
+  blocks.emplace_back(4, 4);  // on it: not held
+  std::vector<Eigen::Triplet<double>> ref = th;
+  for (const auto& [fa, fb] : blocks)
+    if (fa > fb)
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) ref.emplace_back(3 * fa + r, 3 * fb + c, 0.0);
+  Eigen::SparseMatrix<double> R(n, n);
+  R.setFromTriplets(ref.begin(), ref.end());
+  R.makeCompressed();
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 3}) {
+    omp_set_num_threads(threads);
+    PaddedPattern kept;
+    const Eigen::SparseMatrix<double> M = kept.embed(H, [&] { return blocks; });
+    omp_set_num_threads(saved);
+    EXPECT_EQ(kept.rebuilds(), 1);
+    ASSERT_EQ(M.nonZeros(), R.nonZeros()) << threads;
+    EXPECT_TRUE(std::equal(M.outerIndexPtr(), M.outerIndexPtr() + n + 1, R.outerIndexPtr()));
+    EXPECT_TRUE(std::equal(M.innerIndexPtr(), M.innerIndexPtr() + M.nonZeros(), R.innerIndexPtr()));
+    EXPECT_EQ((Eigen::SparseMatrix<double>(M - H)).coeffs().cwiseAbs().maxCoeff(), 0.0);  // H's values, zeros elsewhere
+  }
+}
