@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/scope_profile.hpp"
+
 namespace yarnhom::numerics {
 
 double contact_barrier_energy(ContactKind kind, const Vec12& q, const BarrierParams& p, Vec12* g, Mat12* H) {
@@ -154,7 +156,11 @@ std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std
                                            const std::function<bool(int, int)>& keep) {
   std::vector<std::pair<int, int>> out;
   if (a.empty() || b.empty()) return out;
-  const DenseGrid g = make_grid(a, b);
+  prof::Scope ps("box_pairs");
+  const DenseGrid g = [&] {
+    prof::Scope pg("box_pairs: grid");
+    return make_grid(a, b);
+  }();
   // Boxes with a coordinate that is not finite (an infinite box overlaps others, a NaN box
   // none) are tested against all boxes of the other set.
   std::vector<int> odd_a;
@@ -164,10 +170,12 @@ std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std
   // pairs in their own list, the lists joined in order: the same result for any thread count.
   // A pair is reported once, from the first cell both boxes' ranges share (per axis the larger
   // of their first cells); each box's pairs are sorted by i.
-  constexpr int kChunk = 2048;
+  // Small chunks: the pairs crowd where layers of cloth meet, so a chunk of a few thousand boxes
+  // (a sleeve's edges) could hold most of the work and leave the other threads idle.
+  constexpr int kChunk = 256, kParallelMin = 4096;
   const int nb = int(b.size()), nchunks = (nb + kChunk - 1) / kChunk;
   std::vector<std::vector<std::pair<int, int>>> part(static_cast<size_t>(nchunks));
-#pragma omp parallel for schedule(dynamic, 1) if (nb >= 2 * kChunk)
+#pragma omp parallel for schedule(dynamic, 1) if (nb >= kParallelMin)
   for (int c = 0; c < nchunks; ++c) {
     std::vector<std::pair<int, int>>& o = part[size_t(c)];
     std::vector<int> hit;
@@ -203,6 +211,7 @@ std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std
         if (!keep || keep(i, j)) o.emplace_back(i, j);
     }
   }
+  prof::Scope pj("box_pairs: lists joined");
   size_t total = 0;
   for (const auto& p : part) total += p.size();
   out.reserve(total);

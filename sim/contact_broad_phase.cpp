@@ -65,9 +65,15 @@ PrimBoxes prim_boxes(const Problem& P, const Eigen::VectorXd& x0, const Eigen::V
   B.v.resize(n);
   B.t.resize(nt);
   B.e.resize(ne);
-  for (int v = 0; v < n; ++v) B.v[v] = vertex_box(v, x0, x1, half);
-  for (int t = 0; t < nt; ++t) B.t[t] = triangle_box(P, t, x0, x1, half);
-  for (int e = 0; e < ne; ++e) B.e[e] = edge_box(P, e, x0, x1, half);
+#pragma omp parallel if (n >= 4096)
+  {
+#pragma omp for schedule(static) nowait
+    for (int v = 0; v < n; ++v) B.v[v] = vertex_box(v, x0, x1, half);
+#pragma omp for schedule(static) nowait
+    for (int t = 0; t < nt; ++t) B.t[t] = triangle_box(P, t, x0, x1, half);
+#pragma omp for schedule(static) nowait
+    for (int e = 0; e < ne; ++e) B.e[e] = edge_box(P, e, x0, x1, half);
+  }
   if (O.empty()) return B;
   // Obstacle primitives, inflated by their radius plus half of dhat.
   const std::vector<double> radius = point_radius(O);
@@ -85,38 +91,58 @@ bool shares(const Problem& P, const Eigen::Vector3i& t, int v) {
   return vertex_rep(P, t[0]) == r || vertex_rep(P, t[1]) == r || vertex_rep(P, t[2]) == r;
 }
 
-// Calls emit(group, i, j) for every pair of overlapping boxes (less those sharing a vertex), by
-// group, then j, then i (box_pairs' order); with any_order the obstacles' few primitives go in
-// the grid and the cloth's many query it (the same pairs, sorted back into that order), without
-// entering every cloth triangle and edge again for a handful of capsules.
-template <class Fn>
-void box_candidates(const Problem& P, const PrimBoxes& B, Fn&& emit, bool any_order = false) {
+// Every pair of overlapping boxes (less those sharing a vertex) as lists by group, in the order
+// of the groups, each list by j, then i (box_pairs' order); with any_order the obstacles' few
+// primitives go in the grid and the cloth's many query it (the same pairs, sorted back into that
+// order), without entering every cloth triangle and edge again for a handful of capsules.
+using GroupPairs = std::pair<unsigned char, std::vector<std::pair<int, int>>>;
+std::vector<GroupPairs> box_candidates(const Problem& P, const PrimBoxes& B, bool any_order = false) {
   const Mesh& m = P.mesh;
+  std::vector<GroupPairs> out;
   if (P.self_collision) {
     // (the pairs sharing a vertex left out as they are found: most of a sheet's overlapping
     // edge boxes are a vertex's edges)
-    for (const auto& [t, v] : numerics::box_pairs(B.t, B.v, false, [&](int t, int v) { return !shares(P, tri(m, t), v); }))
-      emit(SelfPT, t, v);
+    out.emplace_back(SelfPT, numerics::box_pairs(B.t, B.v, false, [&](int t, int v) { return !shares(P, tri(m, t), v); }));
     const auto apart = [&](int a, int b) {
       const Eigen::Vector2i &ea = P.edges[a], &e2 = P.edges[b];
       const int a0 = vertex_rep(P, ea[0]), a1 = vertex_rep(P, ea[1]), b0 = vertex_rep(P, e2[0]), b1 = vertex_rep(P, e2[1]);
       return !(a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1);
     };
-    for (const auto& [a, b] : numerics::box_pairs(B.e, B.e, true, apart)) emit(SelfEE, a, b);
+    out.emplace_back(SelfEE, numerics::box_pairs(B.e, B.e, true, apart));
   }
-  if (P.obstacles.empty()) return;
-  for (const auto& [t, v] : numerics::box_pairs(B.ot, B.v)) emit(ObstacleTriVertex, t, v);
+  if (P.obstacles.empty()) return out;
+  out.emplace_back(ObstacleTriVertex, numerics::box_pairs(B.ot, B.v));
   if (any_order) {
     // (sorted back into the fresh order: by the obstacle's primitive, then the cloth's)
     std::vector<std::pair<int, int>> tk = numerics::box_pairs(B.op, B.t), ef = numerics::box_pairs(B.oe, B.e);
     std::sort(tk.begin(), tk.end());
     std::sort(ef.begin(), ef.end());
-    for (const auto& [k, t] : tk) emit(TriObstaclePoint, t, k);
-    for (const auto& [f, e] : ef) emit(EdgeObstacleEdge, e, f);
-    return;
+    for (auto* l : {&tk, &ef})
+      for (auto& [a, b] : *l) std::swap(a, b);
+    out.emplace_back(TriObstaclePoint, std::move(tk));
+    out.emplace_back(EdgeObstacleEdge, std::move(ef));
+    return out;
   }
-  for (const auto& [t, k] : numerics::box_pairs(B.t, B.op)) emit(TriObstaclePoint, t, k);
-  for (const auto& [e, f] : numerics::box_pairs(B.e, B.oe)) emit(EdgeObstacleEdge, e, f);
+  out.emplace_back(TriObstaclePoint, numerics::box_pairs(B.t, B.op));
+  out.emplace_back(EdgeObstacleEdge, numerics::box_pairs(B.e, B.oe));
+  return out;
+}
+
+// The lists' pairs made into T by make(group, i, j), in the lists' order, on the OpenMP threads
+// (hundreds of thousands of pairs in a T-shirt's region).
+template <class T, class Make>
+std::vector<T> flatten(const std::vector<GroupPairs>& lists, Make&& make) {
+  size_t total = 0;
+  for (const auto& l : lists) total += l.second.size();
+  std::vector<T> out(total);
+  size_t off = 0;
+  for (const auto& [g, l] : lists) {
+    const int64_t n = int64_t(l.size());
+#pragma omp parallel for schedule(static) if (n >= 8192)
+    for (int64_t k = 0; k < n; ++k) out[off + size_t(k)] = make(g, l[size_t(k)].first, l[size_t(k)].second);
+    off += l.size();
+  }
+  return out;
 }
 
 bool overlaps(const PrimBoxes& B, unsigned char g, int i, int j) {
@@ -160,22 +186,19 @@ std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::Vecto
                                             const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, ContactCache* cache) {
   if (!has_contact(P)) return {};
   if (cache) return cache->candidates(P, x0, x1, y0, y1);
-  std::vector<ContactPair> out;
+  prof::Scope ps("broad phase: without a cache");
   const std::vector<double> radius = point_radius(P.obstacles);
-  box_candidates(P, prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat),
-                 [&](unsigned char g, int i, int j) { out.push_back(make_pair(P, radius, g, i, j)); });
-  return out;
+  return flatten<ContactPair>(box_candidates(P, prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat)),
+                              [&](unsigned char g, int i, int j) { return make_pair(P, radius, g, i, j); });
 }
 
 std::vector<ContactPair> contact_candidates_within(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y,
                                                    double reach) {
   if (!has_contact(P)) return {};
-  std::vector<ContactPair> out;
+  prof::Scope ps("broad phase: within a reach");
   const std::vector<double> radius = point_radius(P.obstacles);
-  box_candidates(
-      P, prim_boxes(P, x, x, y, y, 0.5 * reach),
-      [&](unsigned char g, int i, int j) { out.push_back(make_pair(P, radius, g, i, j)); }, true);
-  return out;
+  return flatten<ContactPair>(box_candidates(P, prim_boxes(P, x, x, y, y, 0.5 * reach), true),
+                              [&](unsigned char g, int i, int j) { return make_pair(P, radius, g, i, j); });
 }
 
 bool ContactCache::covers(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::VectorXd& p) const {
@@ -198,9 +221,15 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   std::vector<double> old_gap;
   if (snapped_) old.swap(entries_), old_gap.swap(gap_);
   entries_.clear();
-  box_candidates(
-      P, prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat),
-      [&](unsigned char g, int i, int j) { entries_.push_back({g, i, j, make_pair(P, radius_, g, i, j)}); }, true);
+  PrimBoxes boxes;
+  {
+    prof::Scope pb("broad phase: boxes");
+    boxes = prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat);
+  }
+  entries_ = flatten<Entry>(box_candidates(P, boxes, true), [&](unsigned char g, int i, int j) {
+    return Entry{g, i, j, make_pair(P, radius_, g, i, j)};
+  });
+  prof::Scope pm("broad phase: merged with the last region");
   valid_ = true;
   ++builds_;
   // A pair of the old region keeps its bound at the snapshot (a bound of its distance there,
@@ -267,7 +296,7 @@ namespace {
 // thread count); keep returns 1 when it computed a distance. Returns their count.
 template <class Keep>
 long entries_in_chunks(size_t n, std::vector<ContactPair>& out, Keep&& keep) {
-  constexpr size_t kChunk = 4096;
+  constexpr size_t kChunk = 1024;  // 100-500k entries on the T-shirt: a hundred chunks or more for 16 threads
   const int64_t nchunks = int64_t((n + kChunk - 1) / kChunk);
   std::vector<std::vector<ContactPair>> part(static_cast<size_t>(nchunks));
   long distances = 0;
