@@ -10,6 +10,7 @@ PcgDeviceFactory g_device_factory = nullptr;
 // Below this many unknowns the vector operations run on the calling thread: an iteration's six
 // parallel regions cost more than their work (and a descheduled thread stalls each of them).
 constexpr int kParallelMin = 100000;
+constexpr int kParallelEntries = 200000;  // the builder's scatter of the matrix's entries
 
 double dot(int n, const double* a, const double* b) {
   double s = 0;
@@ -59,9 +60,12 @@ bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& o
     out.block_inv.assign(3 * n, 0.0);
   }
   const double* v = T.valuePtr();
-  // The diagonal blocks are gathered into block_inv and inverted in place below.
+  // The diagonal blocks are gathered into block_inv and inverted in place below. Each entry k
+  // writes places of its own (its row's, its mirror's, its block's two), so the entries go on
+  // the threads (the simulator's matrices: a million entries and more, scattered).
   std::vector<double>& blocks = out.block_inv;
   std::fill(blocks.begin(), blocks.end(), 0.0);
+#pragma omp parallel for schedule(static) if (nnz > kParallelEntries)
   for (int k = 0; k < nnz; ++k) {
     out.val[pos_[k]] = v[k];
     if (mirror_[k] >= 0) out.val[mirror_[k]] = v[k];
@@ -73,7 +77,7 @@ bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& o
     }
   }
   bool ok = true;
-#pragma omp parallel for schedule(static) reduction(&& : ok) if (n > kParallelMin)
+#pragma omp parallel for schedule(static) reduction(&& : ok) if (nnz > kParallelEntries)
   for (int b = 0; b < n / 3; ++b) {
     Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> B(&blocks[9 * b]);
     const Eigen::LLT<Eigen::Matrix3d> llt(B);
