@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/scope_profile.hpp"
 #include "numerics/block_jacobi_pcg.hpp"
 #include "numerics/serial_openmp.hpp"
 #ifdef YARNHOM_HAVE_CHOLMOD
@@ -94,7 +95,11 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   const bool fresh = !s.same_pattern(A);
   if (s.iterative()) {
     if (fresh) s.remember_pattern(A);
-    if (!s.builder.build(A, s.system)) return false;
+    {
+      prof::Scope ps("solver: the block system built");
+      if (!s.builder.build(A, s.system)) return false;
+    }
+    prof::Scope pu("solver: uploaded to the GPU");
     if (s.device) s.device->upload(s.system);
     return true;
   }
@@ -121,6 +126,7 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
 
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) const {
   if (impl_->iterative()) {
+    prof::Scope ps("solver: CG iterations");
     Eigen::VectorXd x(b.size());
     const BlockPcgResult r = impl_->device ? impl_->device->solve(b.data(), x.data(), impl_->tol, impl_->max_iterations)
                                       : block_jacobi_pcg(impl_->system, b.data(), x.data(), impl_->tol,
