@@ -81,6 +81,9 @@ struct DenseGrid {
 
 bool finite_box(const Box3& x) { return x.lo.allFinite() && x.hi.allFinite(); }
 
+// From this many boxes the grid's counting sort runs on the OpenMP threads.
+constexpr int64_t kParallelBoxes = 8192;
+
 // Cells, per axis, as long as the larger boxes of a along it (the 90th percentile's extent, so
 // one long box does not coarsen the grid for all; per axis, so boxes stretched along one
 // direction -- a falling sheet's moves -- keep cells of a triangle's size across it), no box of
@@ -127,25 +130,47 @@ DenseGrid make_grid(const std::vector<Box3>& a, const std::vector<Box3>& b) {
   g.origin = lo;
   const size_t ncell = size_t(g.n[0] * g.n[1] * g.n[2]);
   g.start.assign(ncell + 1, 0);
-  for (size_t i = 0; i < a.size(); ++i) {
-    if (!finite_box(a[i])) continue;
-    auto& r = g.range[i];
+  // The counting sort on the threads: each box's range and its cells' counts (atomic), the
+  // boxes entered (atomic places), then each cell's boxes sorted: the same grid on any thread
+  // count.
+  const int64_t na = int64_t(a.size());
+  const bool par = na >= kParallelBoxes;
+#pragma omp parallel for schedule(static) if (par)
+  for (int64_t i = 0; i < na; ++i) {
+    if (!finite_box(a[size_t(i)])) continue;
+    auto& r = g.range[size_t(i)];
     for (int d = 0; d < 3; ++d) {
-      r[size_t(d)] = int(g.coord(a[i].lo[d], d));
-      r[size_t(d) + 3] = int(g.coord(a[i].hi[d], d));
+      r[size_t(d)] = int(g.coord(a[size_t(i)].lo[d], d));
+      r[size_t(d) + 3] = int(g.coord(a[size_t(i)].hi[d], d));
     }
     for (int64_t z = r[2]; z <= r[5]; ++z)
       for (int64_t y = r[1]; y <= r[4]; ++y)
-        for (int64_t x = r[0]; x <= r[3]; ++x) ++g.start[size_t(g.index(x, y, z)) + 1];
+        for (int64_t x = r[0]; x <= r[3]; ++x) {
+          int& c = g.start[size_t(g.index(x, y, z)) + 1];
+#pragma omp atomic
+          ++c;
+        }
   }
   for (size_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
   g.ids.resize(size_t(g.start[ncell]));
   std::vector<int> fill(g.start.begin(), g.start.end() - 1);
-  for (size_t i = 0; i < a.size(); ++i) {
-    const auto& r = g.range[i];
+#pragma omp parallel for schedule(static) if (par)
+  for (int64_t i = 0; i < na; ++i) {
+    const auto& r = g.range[size_t(i)];
     for (int64_t z = r[2]; z <= r[5]; ++z)
       for (int64_t y = r[1]; y <= r[4]; ++y)
-        for (int64_t x = r[0]; x <= r[3]; ++x) g.ids[size_t(fill[size_t(g.index(x, y, z))]++)] = int(i);
+        for (int64_t x = r[0]; x <= r[3]; ++x) {
+          int& f = fill[size_t(g.index(x, y, z))];
+          int at;
+#pragma omp atomic capture
+          at = f++;
+          g.ids[size_t(at)] = int(i);
+        }
+  }
+  if (par) {
+#pragma omp parallel for schedule(static)
+    for (int64_t c = 0; c < int64_t(ncell); ++c)
+      std::sort(g.ids.begin() + g.start[size_t(c)], g.ids.begin() + g.start[size_t(c) + 1]);
   }
   return g;
 }

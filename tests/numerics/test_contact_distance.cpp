@@ -141,10 +141,10 @@ TEST(ContactDistance, CcdNeverClosesMoreThanItsShareOfTheGap) {
 TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairsInOrder) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> U(0, 1);
-  // 5,000 boxes (enough for the queries' parallel chunks), a few long ones, a cluster far away
+  // 9,000 boxes (enough for the grid's and the queries' parallel passes), a few long ones, a cluster far away
   // (the grid coarsens), boxes touching exactly, and boxes with infinite or NaN coordinates.
   std::vector<Box3> a, b;
-  for (int i = 0; i < 5000; ++i) {
+  for (int i = 0; i < 9000; ++i) {
     const V c = V(U(rng), U(rng), 0.1 * U(rng)) + (i % 97 == 0 ? V(40, -30, 20) : V::Zero());
     a.push_back(points_box(0.002 + 0.01 * U(rng), c));
     b.push_back(points_box(0.0, c, V(c + V(U(rng), U(rng), U(rng)) * (i % 500 == 0 ? 0.5 : 0.01))));
@@ -159,7 +159,7 @@ TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairsInOrder) {
   const int saved = omp_get_max_threads();
   for (bool same : {false, true}) {
     const std::vector<Box3>& bb = same ? a : b;
-    omp_set_num_threads(3);  // the queries' chunks on 3 threads, then on one: the same list
+    omp_set_num_threads(3);  // the grid and the queries on 3 threads, then on one: the same list
     const auto got = box_pairs(a, bb, same);
     omp_set_num_threads(1);
     EXPECT_EQ(box_pairs(a, bb, same), got);
