@@ -243,10 +243,12 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
     snapped_ = false;
     return;
   }
-  size_t a = 0;
-  for (size_t k = 0; k < entries_.size(); ++k) {
-    while (a < old.size() && by_key(old[a], entries_[k])) ++a;
-    if (a < old.size() && key(old[a]) == key(entries_[k])) gap_[k] = old_gap[a];
+  // (each new entry's old twin found by bisection, on the threads: the same as one merge)
+  const int64_t n = int64_t(entries_.size());
+#pragma omp parallel for schedule(static) if (n >= 16384)
+  for (int64_t k = 0; k < n; ++k) {
+    const auto it = std::lower_bound(old.begin(), old.end(), entries_[size_t(k)], by_key);
+    if (it != old.end() && key(*it) == key(entries_[size_t(k)])) gap_[size_t(k)] = old_gap[size_t(it - old.begin())];
   }
 }
 
