@@ -85,6 +85,42 @@ void scatter_pair(const ContactPair& c, const std::vector<int>& free_index, cons
     }
   }
 }
+
+// Sum over n pair terms, term(k, g, H) returning the k-th term's value (and its gradient and
+// Hessian where asked; with zero_is_none a term of 0 has none: a barrier beyond its reach),
+// pair(k) its pair. The terms are evaluated in fixed
+// chunks on the OpenMP threads (a T-shirt on a body holds thousands of pairs, each a 12 x 12
+// Hessian and its PSD projection), their Hessians made into triplets per chunk; then the values
+// are summed, the gradients added and the chunks' triplets appended in the pairs' order, as one
+// thread in a loop over the pairs would (the same result on any thread count). An infinite
+// term ends the sum: infinity, with what came before it added (triplets not).
+template <class Term, class PairOf>
+double sum_pair_terms(size_t n, const std::vector<int>& free_index, Eigen::VectorXd* grad,
+                      std::vector<Eigen::Triplet<double>>* trip, bool zero_is_none, Term&& term, PairOf&& pair) {
+  constexpr size_t kChunk = 64;
+  const int64_t nchunks = int64_t((n + kChunk - 1) / kChunk);
+  std::vector<double> e(n, 0.0);
+  std::vector<Vec12> g(grad ? n : 0);
+  std::vector<std::vector<Eigen::Triplet<double>>> part(trip ? size_t(nchunks) : 0);
+#pragma omp parallel for schedule(dynamic, 1) if (n >= 4 * kChunk)
+  for (int64_t c = 0; c < nchunks; ++c) {
+    Mat12 H;
+    for (size_t k = size_t(c) * kChunk; k < std::min(n, size_t(c + 1) * kChunk); ++k) {
+      e[k] = term(k, grad ? &g[k] : nullptr, trip ? &H : nullptr);
+      if (trip && (e[k] != 0 || !zero_is_none) && std::isfinite(e[k])) scatter_pair(pair(k), free_index, nullptr, &H, nullptr, &part[size_t(c)]);
+    }
+  }
+  double E = 0;
+  for (size_t k = 0; k < n; ++k) {
+    if (e[k] == 0 && zero_is_none) continue;
+    if (!std::isfinite(e[k])) return std::numeric_limits<double>::infinity();
+    E += e[k];
+    if (grad) scatter_pair(pair(k), free_index, &g[k], nullptr, grad, nullptr);
+  }
+  if (trip)
+    for (const auto& p : part) trip->insert(trip->end(), p.begin(), p.end());
+  return E;
+}
 }  // namespace
 
 numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c) {
@@ -97,20 +133,15 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
   if (!has_contact(P)) return 0.0;
   // The cache leaves out pairs shown beyond d_hat: their terms are zero (skipped below).
   const std::vector<ContactPair> pairs = cache ? cache->near(P, x, y) : contact_candidates(P, x, x, y, y);
-  double E = 0;
-  for (const ContactPair& c : pairs) {
-    const Vec12 q = pair_coordinates(c, x, y);
-    Vec12 g;
-    Mat12 H;
-    const double e = numerics::contact_barrier_energy(c.kind, q, pair_barrier(P, c), grad ? &g : nullptr,
-                                                      trip ? &H : nullptr);
-    if (e == 0) continue;
-    if (!std::isfinite(e)) return std::numeric_limits<double>::infinity();
-    E += e;
-    if (trip) numerics::project_psd<12>(H);
-    scatter_pair(c, free_index, &g, trip ? &H : nullptr, grad, trip);
-  }
-  return E;
+  return sum_pair_terms(
+      pairs.size(), free_index, grad, trip, true,
+      [&](size_t k, Vec12* g, Mat12* H) {
+        const ContactPair& c = pairs[k];
+        const double e = numerics::contact_barrier_energy(c.kind, pair_coordinates(c, x, y), pair_barrier(P, c), g, H);
+        if (H && e != 0 && std::isfinite(e)) numerics::project_psd<12>(*H);
+        return e;
+      },
+      [&](size_t k) -> const ContactPair& { return pairs[k]; });
 }
 
 namespace {
@@ -260,29 +291,30 @@ std::vector<PairFriction> pair_friction_contacts(const Problem& P, const Eigen::
 double pair_friction_energy(const std::vector<PairFriction>& F, double eps, const std::vector<int>& free_index,
                             const Eigen::VectorXd& x, const Eigen::VectorXd& y, Eigen::VectorXd* grad,
                             std::vector<Eigen::Triplet<double>>* trip, bool majorize) {
-  double E = 0;
-  for (const PairFriction& f : F) {
-    const Vec12 q = pair_coordinates(f.pair, x, y);
-    V3 slip = V3::Zero();
-    for (int k = 0; k < 4; ++k) slip += f.w[k] * (q.segment<3>(3 * k) - f.q_start.segment<3>(3 * k));
-    const Eigen::Vector2d u = f.T.transpose() * slip;
-    const FrictionMollifier m = friction_mollifier(u.norm(), eps);
-    E += f.mu_lambda * m.f0;
-    if (!grad && !trip) continue;
-    Vec12 g;
-    Mat12 H;
-    const V3 gs = f.mu_lambda * m.f1_over_y * (f.T * u);
-    Eigen::Matrix2d Hu = majorize ? Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity())
-                                  : Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity() + m.uu_coeff * u * u.transpose());
-    numerics::project_psd<2>(Hu);
-    const Eigen::Matrix3d Hs = f.mu_lambda * f.T * Hu * f.T.transpose();
-    for (int k = 0; k < 4; ++k) {
-      g.segment<3>(3 * k) = f.w[k] * gs;
-      for (int l = 0; l < 4; ++l) H.block<3, 3>(3 * k, 3 * l) = f.w[k] * f.w[l] * Hs;
-    }
-    scatter_pair(f.pair, free_index, &g, &H, grad, trip);
-  }
-  return E;
+  return sum_pair_terms(
+      F.size(), free_index, grad, trip, false,
+      [&](size_t i, Vec12* g, Mat12* H) {
+        const PairFriction& f = F[i];
+        const Vec12 q = pair_coordinates(f.pair, x, y);
+        V3 slip = V3::Zero();
+        for (int k = 0; k < 4; ++k) slip += f.w[k] * (q.segment<3>(3 * k) - f.q_start.segment<3>(3 * k));
+        const Eigen::Vector2d u = f.T.transpose() * slip;
+        const FrictionMollifier m = friction_mollifier(u.norm(), eps);
+        const double e = f.mu_lambda * m.f0;
+        if (!g && !H) return e;
+        const V3 gs = f.mu_lambda * m.f1_over_y * (f.T * u);
+        Eigen::Matrix2d Hu = majorize ? Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity())
+                                      : Eigen::Matrix2d(m.f1_over_y * Eigen::Matrix2d::Identity() + m.uu_coeff * u * u.transpose());
+        numerics::project_psd<2>(Hu);
+        const Eigen::Matrix3d Hs = f.mu_lambda * f.T * Hu * f.T.transpose();
+        for (int k = 0; k < 4; ++k) {
+          if (g) g->segment<3>(3 * k) = f.w[k] * gs;
+          if (H)
+            for (int l = 0; l < 4; ++l) H->block<3, 3>(3 * k, 3 * l) = f.w[k] * f.w[l] * Hs;
+        }
+        return e;
+      },
+      [&](size_t i) -> const ContactPair& { return F[i].pair; });
 }
 
 bool contact_intersections(const Problem& P, const Eigen::VectorXd& x, const Eigen::VectorXd& y, std::string* what) {

@@ -53,7 +53,9 @@ numerics::BarrierParams pair_barrier(const Problem& P, const ContactPair& c);
 
 // The barrier energy of every pair at (x, y). grad (3n): gradient added at cloth vertices.
 // triplets: the projected Hessian's lower triangle over free unknowns (3 per free vertex, the
-// free_index of the DofMap). Returns +inf when a pair is at or below d_min.
+// free_index of the DofMap). Returns +inf when a pair is at or below d_min. The pairs' terms
+// are evaluated on the OpenMP threads and summed in the pairs' order (the same on any thread
+// count; pair_friction_energy likewise).
 double contact_energy(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x,
                       const Eigen::VectorXd& y, Eigen::VectorXd* grad = nullptr,
                       std::vector<Eigen::Triplet<double>>* triplets = nullptr, ContactCache* cache = nullptr);
