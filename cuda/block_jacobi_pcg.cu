@@ -186,20 +186,21 @@ class DevicePcg final : public numerics::PcgDevice {
   }
 
   void upload(const numerics::BlockCsr& A) override {
-    const bool same = A.n == n_ && A.row_ptr == row_ptr_ && A.col == col_;
+    const bool same = A.n == n_ && A.pattern_id != 0 && A.pattern_id == pattern_id_;
     if (!same) {
       n_ = A.n;
-      row_ptr_ = A.row_ptr, col_ = A.col;
+      pattern_id_ = A.pattern_id;
+      nnz_ = A.col.size();
       alloc(rp_, n_ + 1, "cudaMalloc (PCG rows)");
-      alloc(ci_, col_.size(), "cudaMalloc (PCG columns)");
-      alloc(v_, col_.size(), "cudaMalloc (PCG values)");
+      alloc(ci_, nnz_, "cudaMalloc (PCG columns)");
+      alloc(v_, nnz_, "cudaMalloc (PCG values)");
       alloc(bi_, 3 * size_t(n_), "cudaMalloc (PCG block inverses)");
       for (double** p : {&x_, &r_, &z_, &p_, &q_}) alloc(*p, n_, "cudaMalloc (PCG vectors)");
       parts_ = std::max((n_ + kThreads / 32 - 1) / (kThreads / 32), (n_ / 3 + kThreads - 1) / kThreads);
       alloc(pa_, parts_, "cudaMalloc (PCG partial sums)");
       alloc(pb_, parts_, "cudaMalloc (PCG partial sums)");
-      check(cudaMemcpy(rp_, row_ptr_.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice), "cudaMemcpy (PCG rows)");
-      check(cudaMemcpy(ci_, col_.data(), sizeof(int) * col_.size(), cudaMemcpyHostToDevice), "cudaMemcpy (PCG columns)");
+      check(cudaMemcpy(rp_, A.row_ptr.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice), "cudaMemcpy (PCG rows)");
+      check(cudaMemcpy(ci_, A.col.data(), sizeof(int) * nnz_, cudaMemcpyHostToDevice), "cudaMemcpy (PCG columns)");
     }
     check(cudaMemcpy(v_, A.val.data(), sizeof(double) * A.val.size(), cudaMemcpyHostToDevice), "cudaMemcpy (PCG values)");
     check(cudaMemcpy(bi_, A.block_inv.data(), sizeof(double) * A.block_inv.size(), cudaMemcpyHostToDevice),
@@ -242,7 +243,8 @@ class DevicePcg final : public numerics::PcgDevice {
  private:
   std::string name_;
   int n_ = 0, parts_ = 0;
-  std::vector<int> row_ptr_, col_;
+  uint64_t pattern_id_ = 0;
+  size_t nnz_ = 0;
   int *rp_ = nullptr, *ci_ = nullptr;
   double *v_ = nullptr, *bi_ = nullptr, *x_ = nullptr, *r_ = nullptr, *z_ = nullptr, *p_ = nullptr, *q_ = nullptr,
          *pa_ = nullptr, *pb_ = nullptr;

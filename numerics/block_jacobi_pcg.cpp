@@ -1,6 +1,7 @@
 #include "numerics/block_jacobi_pcg.hpp"
 
 #include <Eigen/Dense>
+#include <atomic>
 #include <cmath>
 
 namespace yarnhom::numerics {
@@ -23,14 +24,18 @@ double dot(int n, const double* a, const double* b) {
 void register_pcg_device(PcgDeviceFactory factory) { g_device_factory = factory; }
 PcgDeviceFactory pcg_device_factory() { return g_device_factory; }
 
-bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& out) {
+bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& out, bool same_pattern) {
   const int n = int(T.rows());
   const int nnz = int(T.nonZeros());
   const int* outer = T.outerIndexPtr();
   const int* inner = T.innerIndexPtr();
-  const bool same = outer_.size() == size_t(n + 1) && inner_.size() == size_t(nnz) &&
-                    std::equal(outer_.begin(), outer_.end(), outer) && std::equal(inner_.begin(), inner_.end(), inner);
+  const bool sized = outer_.size() == size_t(n + 1) && inner_.size() == size_t(nnz) && out.n == n &&
+                     out.val.size() == size_t(out.row_ptr.empty() ? 0 : out.row_ptr.back()) && out.pattern_id != 0;
+  const bool same = sized && (same_pattern || (std::equal(outer_.begin(), outer_.end(), outer) &&
+                                               std::equal(inner_.begin(), inner_.end(), inner)));
   if (!same) {
+    static std::atomic<uint64_t> next_id{1};
+    out.pattern_id = next_id++;
     // Count each row's entries of the whole matrix: (r, c) and, off the diagonal, (c, r).
     outer_.assign(outer, outer + n + 1);
     inner_.assign(inner, inner + nnz);

@@ -22,7 +22,9 @@ namespace yarnhom::numerics {
 // factorization).
 class BlockJacobiBuilder {
  public:
-  bool build(const Eigen::SparseMatrix<double>& triangle, BlockCsr& out);
+  // same_pattern: the caller knows the triangle has the pattern of this builder's last call
+  // (SparseCholesky compares it anyway): the builder's own comparison is skipped.
+  bool build(const Eigen::SparseMatrix<double>& triangle, BlockCsr& out, bool same_pattern = false);
 
  private:
   std::vector<int> outer_, inner_;  // the pattern the map is for

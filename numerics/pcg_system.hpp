@@ -9,6 +9,7 @@
 // inverse of A's 3 x 3 diagonal blocks (block Jacobi): cheap to build and to apply, and
 // parallel to the last row, which is what a GPU needs; a factorization's fill is what makes the
 // direct solve cost ~160 ms at 16k triangles on 2 cores (docs/benchmarks.md).
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct BlockCsr {
   std::vector<int> row_ptr, col;  // the whole symmetric matrix, CSR (both triangles)
   std::vector<double> val;
   std::vector<double> block_inv;  // [n / 3][3][3], row-major: the inverses of A's diagonal blocks
+  // The pattern's identity: a number no other pattern built in this process has (the builder
+  // takes a new one whenever it writes row_ptr and col), so a consumer that has seen it knows
+  // the pattern without comparing millions of indices.
+  uint64_t pattern_id = 0;
 };
 
 struct BlockPcgResult {
@@ -32,8 +37,8 @@ struct BlockPcgResult {
 class PcgDevice {
  public:
   virtual ~PcgDevice() = default;
-  // Copies the system to the device; the pattern (row_ptr, col) is uploaded again only when it
-  // differs from the last one's.
+  // Copies the system to the device; the pattern (row_ptr, col) is uploaded again only when its
+  // pattern_id differs from the last one's (0: always).
   virtual void upload(const BlockCsr& A) = 0;
   // x = A^-1 b to the relative residual tol (host arrays of n), at most max_iterations.
   virtual BlockPcgResult solve(const double* b, double* x, double tol, int max_iterations) = 0;

@@ -97,7 +97,7 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
     if (fresh) s.remember_pattern(A);
     {
       prof::Scope ps("solver: the block system built");
-      if (!s.builder.build(A, s.system)) return false;
+      if (!s.builder.build(A, s.system, !fresh)) return false;
     }
     prof::Scope pu("solver: uploaded to the GPU");
     if (s.device) s.device->upload(s.system);

@@ -152,3 +152,27 @@ TEST(BlockJacobiPcg, BuildsTheSameSystemOnAnyThreadCount) {
   }
   EXPECT_LT(err, 1e-12 * rows.cwiseAbs().maxCoeff());
 }
+
+// The pattern's identity: kept while the pattern stays (values rebuilt, with or without the
+// caller's word that it stays), a new one when it changes, never 0 once built.
+TEST(BlockJacobiPcg, KeepsThePatternIdWhileThePatternStays) {
+  const Eigen::SparseMatrix<double> L = pcg_test_system(6, 0.01, 1.0);
+  BlockJacobiBuilder builder;
+  BlockCsr A;
+  ASSERT_TRUE(builder.build(L, A));
+  const uint64_t id = A.pattern_id;
+  EXPECT_NE(id, 0u);
+  ASSERT_TRUE(builder.build(Eigen::SparseMatrix<double>(3.0 * L), A, true));
+  EXPECT_EQ(A.pattern_id, id);
+  BlockCsr fresh;
+  ASSERT_TRUE(builder.build(L, fresh, true));  // an empty system is built whatever the caller says
+  EXPECT_NE(fresh.pattern_id, 0u);
+  EXPECT_EQ(fresh.val, [&] { BlockCsr r; BlockJacobiBuilder b; b.build(L, r); return r.val; }());
+  ASSERT_TRUE(builder.build(Eigen::SparseMatrix<double>(2.0 * L), A));
+  EXPECT_EQ(A.pattern_id, id);
+  for (size_t k = 0; k < A.val.size(); ++k) EXPECT_EQ(A.val[k], 2.0 * fresh.val[k]);
+  const Eigen::SparseMatrix<double> other = pcg_test_system(7, 0.01, 1.0);
+  ASSERT_TRUE(builder.build(other, A));
+  EXPECT_NE(A.pattern_id, id);
+  EXPECT_NE(A.pattern_id, fresh.pattern_id);
+}
