@@ -91,20 +91,38 @@ constexpr int64_t kParallelBoxes = 8192;
 // (for boxes spread far apart: the grid then coarsens, which costs box tests, not results).
 DenseGrid make_grid(const std::vector<Box3>& a, const std::vector<Box3>& b) {
   DenseGrid g;
-  std::array<std::vector<double>, 3> ext;
-  for (auto& e : ext) e.reserve(a.size());
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Box3& x : a)
-    if (finite_box(x)) {
-      for (int d = 0; d < 3; ++d) ext[size_t(d)].push_back(x.hi[d] - x.lo[d]);
-      lo = lo.cwiseMin(x.lo);
-      hi = hi.cwiseMax(x.hi);
-    }
+  const int64_t na = int64_t(a.size()), nb = int64_t(b.size());
+  const bool par = na >= kParallelBoxes;
+  // The finite boxes' bounds, and the largest extents of a and b per axis (over 8 below).
+  double l0 = INFINITY, l1 = INFINITY, l2 = INFINITY, h0 = -INFINITY, h1 = -INFINITY, h2 = -INFINITY;
+  double m0 = 0, m1 = 0, m2 = 0;
+  int64_t finite = 0;
+#pragma omp parallel for schedule(static) if (par) reduction(min : l0, l1, l2) reduction(max : h0, h1, h2, m0, m1, m2) \
+    reduction(+ : finite)
+  for (int64_t i = 0; i < na + nb; ++i) {
+    const Box3& x = i < na ? a[size_t(i)] : b[size_t(i - na)];
+    if (!finite_box(x)) continue;
+    m0 = std::max(m0, x.hi[0] - x.lo[0]), m1 = std::max(m1, x.hi[1] - x.lo[1]), m2 = std::max(m2, x.hi[2] - x.lo[2]);
+    if (i >= na) continue;
+    ++finite;
+    l0 = std::min(l0, x.lo[0]), l1 = std::min(l1, x.lo[1]), l2 = std::min(l2, x.lo[2]);
+    h0 = std::max(h0, x.hi[0]), h1 = std::max(h1, x.hi[1]), h2 = std::max(h2, x.hi[2]);
+  }
+  const Eigen::Vector3d lo(l0, l1, l2), hi(h0, h1, h2);
   g.range.assign(a.size(), {0, 0, 0, -1, -1, -1});
-  if (ext[0].empty()) {
+  if (finite == 0) {
     g.start.assign(2, 0);
     return g;
   }
+  // The 90th percentile of a's extents per axis, over a sample of about 4,096 of its finite
+  // boxes (every stride-th: the cell size needs the scale, not the exact quantile).
+  const int64_t stride = std::max<int64_t>(1, finite / 4096);
+  std::array<std::vector<double>, 3> ext;
+  for (auto& e : ext) e.reserve(size_t(finite / stride + 1));
+  int64_t seen = 0;
+  for (const Box3& x : a)
+    if (finite_box(x) && seen++ % stride == 0)
+      for (int d = 0; d < 3; ++d) ext[size_t(d)].push_back(x.hi[d] - x.lo[d]);
   Eigen::Vector3d cell;
   for (int d = 0; d < 3; ++d) {
     std::vector<double>& e = ext[size_t(d)];
@@ -112,9 +130,7 @@ DenseGrid make_grid(const std::vector<Box3>& a, const std::vector<Box3>& b) {
     std::nth_element(e.begin(), e.begin() + k, e.end());
     cell[d] = std::max(e[k], 1e-9);
   }
-  for (const std::vector<Box3>* set : {&a, &b})
-    for (const Box3& x : *set)
-      if (finite_box(x)) cell = cell.cwiseMax((x.hi - x.lo) / 8);
+  cell = cell.cwiseMax(Eigen::Vector3d(m0, m1, m2) / 8);
   const double cap = 4.0 * double(a.size()) + 64;
   const Eigen::Vector3d span = hi - lo;
   for (;;) {
@@ -133,8 +149,6 @@ DenseGrid make_grid(const std::vector<Box3>& a, const std::vector<Box3>& b) {
   // The counting sort on the threads: each box's range and its cells' counts (atomic), the
   // boxes entered (atomic places), then each cell's boxes sorted: the same grid on any thread
   // count.
-  const int64_t na = int64_t(a.size());
-  const bool par = na >= kParallelBoxes;
 #pragma omp parallel for schedule(static) if (par)
   for (int64_t i = 0; i < na; ++i) {
     if (!finite_box(a[size_t(i)])) continue;

@@ -9,13 +9,18 @@
 
 #include <cmath>
 #include <random>
+#include <omp.h>
 #include <unistd.h>
+
 #include <cstdlib>
 
 #include "bake/bake_table.hpp"
 #include "material/material.hpp"
 #include "core/jet_layout.hpp"
 #include "numerics/blas_threads.hpp"
+#include "numerics/contact_pairs.hpp"
+#include "sim/contact.hpp"
+#include "sim/contact_broad_phase.hpp"
 #include "sim/dof_map.hpp"
 #include "sim/hessian_pattern.hpp"
 #include "numerics/sparse_cholesky.hpp"
@@ -216,6 +221,29 @@ BENCHMARK(BM_Factorize)
     ->Args({1000, 1, 0})->Args({4000, 1, 0})->Args({16000, 1, 0})
     ->Args({16000, 1, 1})->Args({16000, 1, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The contact broad phase's pair search (numerics::box_pairs: the grid's counting sort, then
+// the queries in chunks): the draped sheet's edge boxes, inflated by d_hat / 2 = 0.5 mm, against
+// themselves; range(1) OpenMP threads (the self-collision region of a step builds this and the
+// triangle-vertex search twice).
+void BM_BoxPairs(benchmark::State& state) {
+  Sheet S(int(state.range(0)));
+  const std::vector<Eigen::Vector2i> edges = cloth_edges(S.m);
+  std::vector<Box3> boxes(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) boxes[e] = move_box(edges[e], 2, S.x, S.x, 5e-4);
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(int(state.range(1)));
+  size_t pairs = 0;
+  for (auto _ : state) {
+    const auto p = box_pairs(boxes, boxes, true);
+    pairs = p.size();
+    benchmark::DoNotOptimize(p.data());
+  }
+  omp_set_num_threads(saved);
+  state.counters["boxes"] = double(boxes.size());
+  state.counters["pairs"] = double(pairs);
+}
+BENCHMARK(BM_BoxPairs)->Args({16000, 1})->Args({16000, 2})->Args({16000, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
