@@ -5,7 +5,9 @@
 //   finish_rz   stop when |r| <= tol |b|, else beta = (r.z)_new / (r.z)_old
 //   update_p    p = z + beta p
 // The scalars live on the device, so the host launches a batch of iterations without waiting and
-// reads the stop flag once per batch; every kernel returns at once after the stop. The reductions
+// reads the stop flag once per batch; every kernel returns at once after the stop. A batch is a
+// CUDA graph (captured once per pattern, the buffers it names fixed until the next), launched
+// as one: the 40 kernels run without a host launch between them. The reductions
 // have a fixed shape (the same sums in the same order every run): bit-identical reruns.
 #include <cuda_runtime.h>
 
@@ -178,8 +180,13 @@ class DevicePcg final : public numerics::PcgDevice {
     check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
     name_ = std::string("pcg-cuda (block Jacobi, ") + prop.name + ")";
     check(cudaMalloc(&s_, sizeof(Scalars)), "cudaMalloc (PCG scalars)");
+    // Everything of the solver on its own stream (uploads included: a copy from pageable memory
+    // may return before its DMA ends, so the kernels must be ordered after it on one stream).
+    check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate (PCG)");
   }
   ~DevicePcg() override {
+    if (graph_) cudaGraphExecDestroy(graph_);
+    if (stream_) cudaStreamDestroy(stream_);
     for (void* p : {(void*)rp_, (void*)ci_, (void*)v_, (void*)bi_, (void*)x_, (void*)r_, (void*)z_, (void*)p_,
                     (void*)q_, (void*)pa_, (void*)pb_, (void*)s_})
       if (p) cudaFree(p);
@@ -196,14 +203,19 @@ class DevicePcg final : public numerics::PcgDevice {
       alloc(v_, nnz_, "cudaMalloc (PCG values)");
       alloc(bi_, 3 * size_t(n_), "cudaMalloc (PCG block inverses)");
       for (double** p : {&x_, &r_, &z_, &p_, &q_}) alloc(*p, n_, "cudaMalloc (PCG vectors)");
+      if (graph_) cudaGraphExecDestroy(graph_);  // it names the buffers just replaced
+      graph_ = nullptr;
       parts_ = std::max((n_ + kThreads / 32 - 1) / (kThreads / 32), (n_ / 3 + kThreads - 1) / kThreads);
       alloc(pa_, parts_, "cudaMalloc (PCG partial sums)");
       alloc(pb_, parts_, "cudaMalloc (PCG partial sums)");
-      check(cudaMemcpy(rp_, A.row_ptr.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice), "cudaMemcpy (PCG rows)");
-      check(cudaMemcpy(ci_, A.col.data(), sizeof(int) * nnz_, cudaMemcpyHostToDevice), "cudaMemcpy (PCG columns)");
+      check(cudaMemcpyAsync(rp_, A.row_ptr.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice, stream_),
+            "cudaMemcpy (PCG rows)");
+      check(cudaMemcpyAsync(ci_, A.col.data(), sizeof(int) * nnz_, cudaMemcpyHostToDevice, stream_),
+            "cudaMemcpy (PCG columns)");
     }
-    check(cudaMemcpy(v_, A.val.data(), sizeof(double) * A.val.size(), cudaMemcpyHostToDevice), "cudaMemcpy (PCG values)");
-    check(cudaMemcpy(bi_, A.block_inv.data(), sizeof(double) * A.block_inv.size(), cudaMemcpyHostToDevice),
+    check(cudaMemcpyAsync(v_, A.val.data(), sizeof(double) * A.val.size(), cudaMemcpyHostToDevice, stream_),
+          "cudaMemcpy (PCG values)");
+    check(cudaMemcpyAsync(bi_, A.block_inv.data(), sizeof(double) * A.block_inv.size(), cudaMemcpyHostToDevice, stream_),
           "cudaMemcpy (PCG block inverses)");
   }
 
@@ -213,24 +225,43 @@ class DevicePcg final : public numerics::PcgDevice {
     const int nb = n_ / 3;
     const int gv = (nb + kThreads - 1) / kThreads, gr = (n_ + kThreads / 32 - 1) / (kThreads / 32),
               gn = (n_ + kThreads - 1) / kThreads;
-    check(cudaMemcpy(r_, b, sizeof(double) * n_, cudaMemcpyHostToDevice), "cudaMemcpy (PCG right-hand side)");
-    start<<<gv, kThreads>>>(nb, bi_, r_, z_, p_, x_, pa_, pb_);
-    finish_start<<<1, kThreads>>>(pa_, pb_, gv, tol, s_);
+    cudaStream_t st = stream_;
+    check(cudaMemcpyAsync(r_, b, sizeof(double) * n_, cudaMemcpyHostToDevice, st), "cudaMemcpy (PCG right-hand side)");
+    start<<<gv, kThreads, 0, st>>>(nb, bi_, r_, z_, p_, x_, pa_, pb_);
+    finish_start<<<1, kThreads, 0, st>>>(pa_, pb_, gv, tol, s_);
+    auto iterations = [&](int count) {
+      for (int k = 0; k < count; ++k) {
+        spmv_dot<<<gr, kThreads, 0, st>>>(n_, rp_, ci_, v_, p_, q_, pa_, s_);
+        finish_pq<<<1, kThreads, 0, st>>>(pa_, gr, s_);
+        update<<<gv, kThreads, 0, st>>>(nb, bi_, p_, q_, x_, r_, z_, pa_, pb_, s_);
+        finish_rz<<<1, kThreads, 0, st>>>(pa_, pb_, gv, s_);
+        update_p<<<gn, kThreads, 0, st>>>(n_, z_, p_, s_);
+      }
+    };
+    if (!graph_) {
+      cudaGraph_t g = nullptr;
+      check(cudaStreamBeginCapture(st, cudaStreamCaptureModeThreadLocal), "cudaStreamBeginCapture (PCG)");
+      iterations(kBatch);
+      check(cudaStreamEndCapture(st, &g), "cudaStreamEndCapture (PCG)");
+      const cudaError_t e = cudaGraphInstantiate(&graph_, g, 0);
+      cudaGraphDestroy(g);
+      check(e, "cudaGraphInstantiate (PCG)");
+    }
     Scalars h{};
     for (int it = 0; it < max_iterations; it += kBatch) {
-      for (int k = 0; k < kBatch && it + k < max_iterations; ++k) {
-        spmv_dot<<<gr, kThreads>>>(n_, rp_, ci_, v_, p_, q_, pa_, s_);
-        finish_pq<<<1, kThreads>>>(pa_, gr, s_);
-        update<<<gv, kThreads>>>(nb, bi_, p_, q_, x_, r_, z_, pa_, pb_, s_);
-        finish_rz<<<1, kThreads>>>(pa_, pb_, gv, s_);
-        update_p<<<gn, kThreads>>>(n_, z_, p_, s_);
-      }
+      if (it + kBatch <= max_iterations) check(cudaGraphLaunch(graph_, st), "cudaGraphLaunch (PCG)");
+      else iterations(max_iterations - it);
       check(cudaGetLastError(), "the PCG kernels' launch");
-      check(cudaMemcpy(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost), "cudaMemcpy (PCG scalars)");
+      check(cudaMemcpyAsync(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost, st), "cudaMemcpy (PCG scalars)");
+      check(cudaStreamSynchronize(st), "cudaStreamSynchronize (PCG)");
       if (h.done) break;
     }
-    if (!h.done) check(cudaMemcpy(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost), "cudaMemcpy (PCG scalars)");
-    check(cudaMemcpy(x, x_, sizeof(double) * n_, cudaMemcpyDeviceToHost), "cudaMemcpy (PCG solution)");
+    if (!h.done) {
+      check(cudaMemcpyAsync(&h, s_, sizeof(Scalars), cudaMemcpyDeviceToHost, st), "cudaMemcpy (PCG scalars)");
+      check(cudaStreamSynchronize(st), "cudaStreamSynchronize (PCG)");
+    }
+    check(cudaMemcpyAsync(x, x_, sizeof(double) * n_, cudaMemcpyDeviceToHost, st), "cudaMemcpy (PCG solution)");
+    check(cudaStreamSynchronize(st), "cudaStreamSynchronize (PCG)");
     res.iterations = h.iterations;
     res.breakdown = h.breakdown != 0;
     res.relative_residual = h.bn2 > 0 ? std::sqrt(h.rr / h.bn2) : 0.0;
@@ -249,6 +280,8 @@ class DevicePcg final : public numerics::PcgDevice {
   double *v_ = nullptr, *bi_ = nullptr, *x_ = nullptr, *r_ = nullptr, *z_ = nullptr, *p_ = nullptr, *q_ = nullptr,
          *pa_ = nullptr, *pb_ = nullptr;
   Scalars* s_ = nullptr;
+  cudaStream_t stream_ = nullptr;
+  cudaGraphExec_t graph_ = nullptr;  // kBatch iterations on this pattern's buffers
 };
 
 }  // namespace
