@@ -18,7 +18,10 @@
 // that onto the positive semi-definite cone before mapping it to the vertices gives a PSD 9 x 9
 // matrix (a congruence C^T P C of a PSD P) for a 6 x 6 eigenproblem instead of a 9 x 9 or
 // 18 x 18 one, equal to the exact term whenever the 6 x 6 one is already PSD (e.g. both
-// directions in tension with little shear: lambda_x, lambda_y > 0 and lambda_a small).
+// directions in tension with little shear: lambda_x, lambda_y > 0 and lambda_a small). The 6 x 6
+// matrix splits into a 4 x 4 block in the triangle's plane and a 2 x 2 block along its normal
+// (inplane_strain.cpp), projected apart: the same projection, for a 4 x 4 and a closed-form
+// 2 x 2 eigenproblem (the whole 6 x 6 one only for a triangle sheared flat).
 #include <Eigen/Core>
 
 #include "numerics/psd_projection.hpp"

@@ -107,3 +107,37 @@ TEST(HessianModel, InPlaneTermProjectedInF1F2) {
   // The projection keeps C's positive part: C - Cp is negative semi-definite.
   EXPECT_LT(Eigen::SelfAdjointEigenSolver<Mat9>(C - Cp).eigenvalues().maxCoeff(), 1e-12 * C.norm());
 }
+
+// The in-plane term's projection is the 6 x 6 one in (f1, f2) (done as a 4 x 4 tangent block and
+// a 2 x 2 normal block): recovering the exact 6 x 6 matrix from the unprojected 9 x 9 term
+// (H9 = C^T Hf C with C the 6 x 9 map x -> f of full rank), projecting it whole and mapping it
+// back gives the projected term, for both eigenvalue filters, over random shapes and stresses.
+TEST(HessianModel, InPlaneProjectionIsTheWhole6x6Projection) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1, 1);
+  const Eigen::Matrix2d Binv = (Eigen::Matrix2d() << 100, 20, -10, 90).finished();
+  Eigen::Matrix<double, 6, 9> C = Eigen::Matrix<double, 6, 9>::Zero();  // f_a = sum_v c_av x_v
+  for (int a = 0; a < 2; ++a) {
+    const double c[3] = {-(Binv(0, a) + Binv(1, a)), Binv(0, a), Binv(1, a)};
+    for (int v = 0; v < 3; ++v) C.block<3, 3>(3 * a, 3 * v) = c[v] * Eigen::Matrix3d::Identity();
+  }
+  const Eigen::Matrix<double, 6, 6> CCi = (C * C.transpose()).inverse();
+  int projected = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d x0(0, 0, 0);
+    const Eigen::Vector3d x1 = Eigen::Vector3d(0.01, 0, 0) + 0.004 * Eigen::Vector3d(U(rng), U(rng), U(rng));
+    const Eigen::Vector3d x2 = Eigen::Vector3d(0.002, 0.011, 0) + 0.004 * Eigen::Vector3d(U(rng), U(rng), U(rng));
+    const Eigen::Vector3d lambda(3 * U(rng), 2 * U(rng), 3 * U(rng));
+    for (numerics::EigenFilter filter : {numerics::EigenFilter::Clamp, numerics::EigenFilter::Abs}) {
+      Mat9 H, Hp;
+      inplane_strain(x0, x1, x2, Binv, nullptr, &lambda, &H, false);
+      inplane_strain(x0, x1, x2, Binv, nullptr, &lambda, &Hp, true, filter);
+      Eigen::Matrix<double, 6, 6> Hf = CCi * C * H * C.transpose() * CCi;
+      Hf = (0.5 * (Hf + Hf.transpose())).eval();
+      projected += numerics::project_psd<6>(Hf, filter);
+      const Mat9 ref = C.transpose() * Hf * C;
+      EXPECT_LT((Hp - ref).cwiseAbs().maxCoeff(), 1e-9 * ref.cwiseAbs().maxCoeff()) << trial;
+    }
+  }
+  EXPECT_GT(projected, 100);  // most random stresses are indefinite there: the projection is tested
+}
