@@ -415,6 +415,16 @@ struct Pass {
         }
       });
       if (!dw) continue;
+      // An off-domain group whose points all satisfy L_S (rising outward, the usual case once
+      // the network has learnt it) has yb = 0 in every lane: its reverse pass would only add
+      // zeros to the accumulators, so it is skipped (the same gradient, bit for bit).
+      if constexpr (OFF) {
+        auto nz = yb[1][0] != V{};
+        unroll<D>([&](auto i) { unroll<G>([&](auto g) { nz |= yb[1 + i][g] != V{}; }); });
+        bool any = false;
+        for (int l = 0; l < L; ++l) any = any || nz[l] != 0;
+        if (!any) continue;
+      }
       // Reverse: the output layer.
       {
         V* dWo = dw + S::woff(NH);

@@ -1,7 +1,7 @@
 // The epochs' fused kernel (cpu/epoch_kernel.hpp) against the general kernel (cpu::mlp_loss_grad)
 // on the same minibatches (data points at jet order 3 with the exact L_C, or order 1 without it,
 // plus off-domain points for L_S), entry by entry; its gradient against central finite
-// differences in double; reruns bit-identical.
+// differences in double; reruns bit-identical; satisfied off-domain points add nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -175,6 +175,56 @@ TEST(EpochKernel, GradientMatchesFiniteDifferences) {
         den += fd * fd;
       }
       EXPECT_LT(std::sqrt(num / den), 1e-6) << "d=" << d << " layers " << h.size();
+    }
+}
+
+// Off-domain points that all satisfy L_S (their groups' reverse passes are skipped) add nothing:
+// the gradient is the data points' alone, bit for bit; one active point among them (the last
+// group) still matches the general kernel.
+TEST(EpochKernel, SatisfiedOffDomainPointsAddNothingToTheGradient) {
+  for (int d : {1, 2})
+    for (const auto& h : kShapes) {
+      const NetworkDesc desc = net(d, h);
+      const cpu::LossOptions o = options(true);
+      const std::vector<float> p = test::random_params<float>(desc, 9);
+      const Batch<float> all = make_batch<float>(d, 128, 400, 13);
+      cpu::EpochWorkspace<float> ws;
+      // Keep the off-domain points whose own L_S is zero.
+      Batch<float> sat = all, one = all;
+      sat.xo.clear(), sat.no.clear();
+      for (size_t i = 0; i * d < all.xo.size(); ++i) {
+        one.xo.assign(all.xo.begin() + i * d, all.xo.begin() + (i + 1) * d);
+        one.no.assign(all.no.begin() + i * d, all.no.begin() + (i + 1) * d);
+        one.y.clear();
+        if (cpu::fused_loss_grad<float>(desc, p.data(), one.batch(false), o, nullptr, ws).s == 0) {
+          sat.xo.insert(sat.xo.end(), one.xo.begin(), one.xo.end());
+          sat.no.insert(sat.no.end(), one.no.begin(), one.no.end());
+        }
+      }
+      ASSERT_GE(sat.xo.size(), size_t(70 * d)) << "d=" << d;  // more than two groups of points
+      Batch<float> data = all;
+      data.xo.clear(), data.no.clear();
+      std::vector<float> g_sat(p.size()), g_data(p.size());
+      EXPECT_EQ(cpu::fused_loss_grad<float>(desc, p.data(), sat.batch(false), o, g_sat.data(), ws).s, 0.0);
+      cpu::fused_loss_grad<float>(desc, p.data(), data.batch(false), o, g_data.data(), ws);
+      EXPECT_EQ(g_sat, g_data) << "d=" << d << " layers " << h.size();
+      // One active point appended (the partner of a satisfied one: the same point, the normal
+      // reversed): the gradient changes, as the general kernel's does.
+      Batch<float> mixed = sat;
+      mixed.xo.insert(mixed.xo.end(), sat.xo.begin(), sat.xo.begin() + d);
+      for (int j = 0; j < d; ++j) mixed.no.push_back(-sat.no[j]);
+      cpu::LossWorkspace<float> gws;
+      std::vector<float> g_mix(p.size()), g_gen(p.size());
+      const cpu::LossValues v = cpu::fused_loss_grad<float>(desc, p.data(), mixed.batch(false), o, g_mix.data(), ws);
+      cpu::mlp_loss_grad<float>(desc, p.data(), mixed.batch(false), o, g_gen.data(), gws, 1);
+      ASSERT_GT(v.s, 0.0);
+      EXPECT_NE(g_mix, g_data);
+      double err = 0, big = 0;
+      for (size_t i = 0; i < p.size(); ++i) {
+        err = std::max(err, std::abs(double(g_mix[i]) - g_gen[i]));
+        big = std::max(big, std::abs(double(g_gen[i])));
+      }
+      EXPECT_LT(err, 1e-4 * big) << "d=" << d << " layers " << h.size();
     }
 }
 
