@@ -117,6 +117,23 @@ void BM_PolishLossFused(benchmark::State& st) {
 }
 BENCHMARK(BM_PolishLossFused)->Arg(1)->Arg(2);
 
+// The validation loss the polish measures after every accepted step: the fused kernel's loss
+// without the gradient on the validation split (1D: 10 points in double, 2D: 96 in float).
+template <class T>
+void val_eval(benchmark::State& st, int d) {
+  const NetworkJob job = make_problem(d);
+  const std::vector<T> x = as<T>(job.x_val), y = as<T>(job.y_val), g = as<T>(job.g_val), p = as<T>(job.init_params);
+  std::vector<T> wt(job.n_val, T(1));
+  const cpu::LossBatch<T> b{job.n_val, x.data(), y.data(), g.data(), 0, nullptr, nullptr, wt.data()};
+  cpu::FusedWorkspace<T> fws;
+  for (auto _ : st) benchmark::DoNotOptimize(cpu::fused_data_loss_grad<T>(job.desc, p.data(), b, polish_loss().w, nullptr, fws).total);
+}
+void BM_PolishValLoss(benchmark::State& st) {
+  if (st.range(0) == 1) val_eval<double>(st, 1);
+  else val_eval<float>(st, 2);
+}
+BENCHMARK(BM_PolishValLoss)->Arg(1)->Arg(2);
+
 // The 1D rest penalty with its gradient: the jet of one point at order 2, forward and reverse.
 void BM_PolishRest(benchmark::State& st) {
   const NetworkJob job = make_problem(1);
