@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string_view>
 #include <type_traits>
 
@@ -183,14 +184,15 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
     return fused ? cpu::fused_data_loss_grad<T>(job.desc, p, b, loss.w, grad, fws)
                  : cpu::mlp_loss_grad<T>(job.desc, p, b, loss, grad, ws, 1);
   };
-  auto val_loss = [&](const std::vector<T>& p) {
+  auto val_loss = [&](const std::vector<T>& p, const double* pen = nullptr) {
     const cpu::LossValues v = data_loss(p.data(), val, nullptr);
-    return loss.w.z * v.z + loss.w.f * v.f + rest_penalty(p, nullptr);
+    return loss.w.z * v.z + loss.w.f * v.f + (pen ? *pen : rest_penalty(p, nullptr));
   };
+  double last_pen = 0;  // the rest penalty at pf, the point of the last evaluation
   const LbfgsObjective fg = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) {
     to_float(x);
     const cpu::LossValues v = data_loss(pf.data(), train, gf.data());
-    const double pen = rest_penalty(pf, gf.data());
+    const double pen = last_pen = rest_penalty(pf, gf.data());
     for (int i = 0; i < P; ++i) g[i] = gf[i];
     return v.total + pen;
   };
@@ -199,8 +201,15 @@ PolishResult polish_in(const NetworkJob& job, const TrainConfig& cfg, const Poli
   res.val_start = res.val_end = val_loss(best);
   double best_val = res.val_start;
   const LbfgsObserver observe = [&](int k, const Eigen::VectorXd& x, double f) {
-    to_float(x);
-    const double v = val_loss(pf);
+    // The accepted iterate is the point of the last evaluation (lbfgs_minimize evaluates there
+    // last): when pf already holds it bit for bit, its rest penalty is last_pen.
+    bool same = true;
+    for (int i = 0; i < P; ++i) {
+      const T t = T(x[i]);
+      same = same && std::memcmp(&t, &pf[i], sizeof(T)) == 0;
+      pf[i] = t;
+    }
+    const double v = val_loss(pf, same ? &last_pen : nullptr);
     res.train_loss.push_back(f);
     res.val_loss.push_back(v);
     if (!opt.keep_best || v < best_val || !std::isfinite(best_val)) {
