@@ -345,6 +345,219 @@ struct Fused {
   }
 };
 
+// Net-2 with two inputs by double backpropagation: the value by a forward pass, the input
+// gradient by a backward pass, then dL/dparams by the reverse of both. Per point this costs six
+// products of the [H2, H1] layer's size (forward, its transpose for the input gradient, and in
+// the reverse: one of each orientation and the two-channel weight gradient) against nine for
+// order-1 jets (three channels through forward, input adjoint and weight gradient): the jets'
+// cost grows with the input dimension, double backpropagation's does not. Groups of G vectors of
+// points, weights broadcast, lane accumulators per weight, as Fused.
+template <class T, int H1, int H2>
+struct DoubleBackprop2 {
+  using V = typename Simd<T>::V;
+  static constexpr int L = Simd<T>::L;
+  static constexpr int D = 2;
+  static constexpr int G = 4;   // vectors of points per group
+  static constexpr int OB = 4;  // outputs per register block (OB x G accumulators)
+  static constexpr int W0 = 0, B0 = H1 * D, W1 = H1 * (D + 1), B1 = W1 + H2 * H1, W2 = B1 + H2, B2 = W2 + H2;
+  static constexpr int P = B2 + 1;
+  // One group's vectors, [neuron][G] each: A0, A1 (the activations s0), Zb1 = w2 s1(z1),
+  // Ab0 = W1^T Zb1, Zb0 = Ab0 s1(z0), and the reverse's Zbh0, Abh0, Zh0, Zbh1, Zh1, Ah0.
+  enum { kA0, kA1, kZb1, kAb0, kZb0, kZbh0, kAbh0, kZh0, kZbh1, kZh1, kAh0, kBlocks };
+  static constexpr int HM = H1 > H2 ? H1 : H2;
+  static constexpr int kVectors = P + kBlocks * HM * G + 4 * D * G + 2;
+  static constexpr size_t kScalars = size_t(kVectors) * L + 64 / sizeof(T);
+  static_assert(H1 % OB == 0 && H2 % OB == 0);
+
+  // out[o][g] = bias[o] (or 0) + sum_i M[o * so + i * si] in[i][g], o < NO, i < NI: a product with
+  // the weights at any strides (so: W1 as stored or transposed).
+  template <int NI, int NO>
+  static void dense(const T* M, int so, int si, const T* bias, const V* in, V* out) {
+    for (int o0 = 0; o0 < NO; o0 += OB) {
+      V acc[OB][G];
+      unroll<OB>([&](auto ob) { unroll<G>([&](auto g) { acc[ob][g] = V{} + (bias ? bias[o0 + ob] : T(0)); }); });
+      for (int i = 0; i < NI; ++i) {
+        V a[G];
+        unroll<G>([&](auto g) { a[g] = in[i * G + g]; });
+        unroll<OB>([&](auto ob) {
+          const T w = M[(o0 + ob) * so + i * si];
+          unroll<G>([&](auto g) { acc[ob][g] += w * a[g]; });
+        });
+      }
+      unroll<OB>([&](auto ob) { unroll<G>([&](auto g) { out[(o0 + ob) * G + g] = acc[ob][g]; }); });
+    }
+  }
+
+  template <int N>
+  static void sigmoid(V* z) {
+    Eigen::Map<Eigen::Array<T, N * G * L, 1>> m(reinterpret_cast<T*>(z));
+    m = (T(1) + (-m).exp()).inverse();
+  }
+
+  static LossValues run(const T* params, const LossBatch<T>& batch, const LossWeights& w, T* grad,
+                        FusedWorkspace<T>& ws) {
+    if (ws.buf.size() < kScalars) ws.buf.assign(kScalars, T(0));
+    V* v = reinterpret_cast<V*>((reinterpret_cast<uintptr_t>(ws.buf.data()) + 63) & ~uintptr_t(63));
+    V* dw = v;
+    V* blk[kBlocks];
+    for (int k = 0; k < kBlocks; ++k) blk[k] = v + P + k * HM * G;
+    V* X = v + P + kBlocks * HM * G;  // [D][G]
+    V* Gd = X + D * G;                // [D][G]
+    V* Y = Gd + D * G;                // [G]
+    V* K = Y + G;                     // [G]
+    V *A0 = blk[kA0], *A1 = blk[kA1], *Zb1 = blk[kZb1], *Ab0 = blk[kAb0], *Zb0 = blk[kZb0];
+    const T* w0 = params + W0;
+    const T* w1 = params + W1;
+    const T* w2 = params + W2;
+    const int m = batch.m;
+    if (grad)
+      for (int p = 0; p < P; ++p) dw[p] = V{};
+    V sz = V{}, sf = V{};
+    const T inv_m = m > 0 ? T(1) / T(m) : T(0);
+    const T cz = T(w.z) * inv_m * T(2), cf = T(w.f) * inv_m * T(2);
+    const bool use_z = w.z != 0, use_f = w.f != 0;
+    for (int p0 = 0; p0 < m; p0 += G * L) {
+      for (int g = 0; g < G; ++g)
+        for (int l = 0; l < L; ++l) {
+          const int p = p0 + g * L + l;
+          const bool in = p < m;
+          Y[g][l] = in ? batch.y[p] : T(0);
+          K[g][l] = in ? (batch.wt ? batch.wt[p] : T(1)) : T(0);
+          for (int j = 0; j < D; ++j) {
+            X[j * G + g][l] = in ? batch.x[size_t(p) * D + j] : T(0);
+            Gd[j * G + g][l] = in ? batch.g[size_t(p) * D + j] : T(0);
+          }
+        }
+      // Forward: A0 = s(W0 x + b0), A1 = s(W1 A0 + b1), f = w2 . A1 + b2.
+      for (int o = 0; o < H1; ++o)
+        unroll<G>([&](auto g) { A0[o * G + g] = V{} + params[B0 + o] + w0[o * D] * X[g] + w0[o * D + 1] * X[G + g]; });
+      sigmoid<H1>(A0);
+      dense<H1, H2>(w1, H1, 1, params + B1, A0, A1);
+      sigmoid<H2>(A1);
+      // Backward for the input gradient: Zb1 = w2 s1(z1), Ab0 = W1^T Zb1, Zb0 = Ab0 s1(z0),
+      // grad_x f = W0^T Zb0.
+      V f[G], gx[D][G];
+      unroll<G>([&](auto g) { f[g] = V{} + params[B2]; });
+      for (int o = 0; o < H2; ++o)
+        unroll<G>([&](auto g) {
+          const V a = A1[o * G + g];
+          f[g] += w2[o] * a;
+          Zb1[o * G + g] = w2[o] * (a - a * a);
+        });
+      dense<H2, H1>(w1, 1, H1, nullptr, Zb1, Ab0);
+      unroll<D>([&](auto j) { unroll<G>([&](auto g) { gx[j][g] = V{}; }); });
+      for (int o = 0; o < H1; ++o)
+        unroll<G>([&](auto g) {
+          const V a = A0[o * G + g], zb = Ab0[o * G + g] * (a - a * a);
+          Zb0[o * G + g] = zb;
+          unroll<D>([&](auto j) { gx[j][g] += w0[o * D + j] * zb; });
+        });
+      // The losses and their adjoints: fb = dL/df, gb = dL/dgrad_x f.
+      V fb[G], gb[D][G];
+      unroll<G>([&](auto g) {
+        const V k = K[g];
+        const V r = f[g] - Y[g];
+        if (use_z) sz += k * r * r;
+        fb[g] = use_z ? cz * k * r : V{};
+        unroll<D>([&](auto j) {
+          const V rj = gx[j][g] - Gd[j * G + g];
+          if (use_f) sf += k * rj * rj;
+          gb[j][g] = use_f ? cf * k * rj : V{};
+        });
+      });
+      if (!grad) continue;
+      V *Zbh0 = blk[kZbh0], *Abh0 = blk[kAbh0], *Zh0 = blk[kZh0], *Zbh1 = blk[kZbh1], *Zh1 = blk[kZh1],
+        *Ah0 = blk[kAh0];
+      // Reverse of grad_x f = W0^T Zb0 and of Zb0 = Ab0 s1(z0).
+      for (int o = 0; o < H1; ++o)
+        unroll<G>([&](auto g) {
+          V zbh = V{};
+          unroll<D>([&](auto j) {
+            zbh += w0[o * D + j] * gb[j][g];
+            dw[W0 + o * D + j] += Zb0[o * G + g] * gb[j][g];
+          });
+          const V a = A0[o * G + g], s1 = a - a * a, s2 = s1 - T(2) * a * s1;
+          Zbh0[o * G + g] = zbh;
+          Abh0[o * G + g] = zbh * s1;
+          Zh0[o * G + g] = zbh * Ab0[o * G + g] * s2;
+        });
+      // Reverse of Ab0 = W1^T Zb1: Zbh1 = W1 Abh0 (and dW1 += Zb1 Abh0^T below).
+      dense<H1, H2>(w1, H1, 1, nullptr, Abh0, Zbh1);
+      // Reverse of Zb1 = w2 s1(z1), of f = w2 . A1 + b2 and of A1 = s(z1).
+      {
+        V db2 = dw[B2];
+        for (int o = 0; o < H2; ++o) {
+          V dw2 = dw[W2 + o];
+          unroll<G>([&](auto g) {
+            const V a = A1[o * G + g], s1 = a - a * a, s2 = s1 - T(2) * a * s1, zbh = Zbh1[o * G + g];
+            dw2 += zbh * s1 + fb[g] * a;
+            Zh1[o * G + g] = zbh * w2[o] * s2 + fb[g] * w2[o] * s1;
+          });
+          dw[W2 + o] = dw2;
+        }
+        unroll<G>([&](auto g) { db2 += fb[g]; });
+        dw[B2] = db2;
+      }
+      // dW1 += Zh1 A0^T + Zb1 Abh0^T, db1 += Zh1.
+      for (int o0 = 0; o0 < H2; o0 += 2) {
+        V z[2][2][G];
+        unroll<2>([&](auto ob) {
+          unroll<G>([&](auto g) {
+            z[ob][0][g] = Zh1[(o0 + ob) * G + g];
+            z[ob][1][g] = Zb1[(o0 + ob) * G + g];
+          });
+        });
+        for (int i = 0; i < H1; ++i) {
+          V a[2][G];
+          unroll<G>([&](auto g) {
+            a[0][g] = A0[i * G + g];
+            a[1][g] = Abh0[i * G + g];
+          });
+          unroll<2>([&](auto ob) {
+            V part[2];
+            unroll<2>([&](auto c) {
+              part[c] = z[ob][c][0] * a[c][0];
+              unroll<G - 1>([&](auto g) { part[c] += z[ob][c][1 + g] * a[c][1 + g]; });
+            });
+            dw[W1 + (o0 + ob) * H1 + i] += part[0] + part[1];
+          });
+        }
+        unroll<2>([&](auto ob) {
+          V acc = dw[B1 + o0 + ob];
+          unroll<G>([&](auto g) { acc += z[ob][0][g]; });
+          dw[B1 + o0 + ob] = acc;
+        });
+      }
+      // Reverse of z1 = W1 A0 + b1: Ah0 = W1^T Zh1; of A0 = s(z0) and z0 = W0 x + b0.
+      dense<H2, H1>(w1, 1, H1, nullptr, Zh1, Ah0);
+      for (int o = 0; o < H1; ++o) {
+        V db = dw[B0 + o], dx[D];
+        unroll<D>([&](auto j) { dx[j] = dw[W0 + o * D + j]; });
+        unroll<G>([&](auto g) {
+          const V a = A0[o * G + g], zh = Zh0[o * G + g] + Ah0[o * G + g] * (a - a * a);
+          db += zh;
+          unroll<D>([&](auto j) { dx[j] += zh * X[j * G + g]; });
+        });
+        dw[B0 + o] = db;
+        unroll<D>([&](auto j) { dw[W0 + o * D + j] = dx[j]; });
+      }
+    }
+    LossValues out;
+    T tz = 0, tf = 0;
+    for (int l = 0; l < L; ++l) tz += sz[l], tf += sf[l];
+    out.z = double(tz) * double(inv_m);
+    out.f = double(tf) * double(inv_m);
+    out.total = w.z * out.z + w.f * out.f;
+    if (grad)
+      for (int p = 0; p < P; ++p) {
+        T s = 0;
+        for (int l = 0; l < L; ++l) s += dw[p][l];
+        grad[p] = s;
+      }
+    return out;
+  }
+};
+
 bool hidden_is(const NetworkDesc& desc, std::initializer_list<int> h) {
   return desc.hidden.size() == h.size() && std::equal(h.begin(), h.end(), desc.hidden.begin());
 }
@@ -364,7 +577,8 @@ LossValues fused_data_loss_grad(const NetworkDesc& desc, const T* params, const 
     return d1 ? Fused<T, 1, 16, 32, 16>::run(params, batch, w, grad, ws)
               : Fused<T, 2, 16, 32, 16>::run(params, batch, w, grad, ws);
   if (hidden_is(desc, {32, 32}) && desc.input_dim <= 2)
-    return d1 ? Fused<T, 1, 32, 32>::run(params, batch, w, grad, ws) : Fused<T, 2, 32, 32>::run(params, batch, w, grad, ws);
+    return d1 ? Fused<T, 1, 32, 32>::run(params, batch, w, grad, ws)
+              : DoubleBackprop2<T, 32, 32>::run(params, batch, w, grad, ws);
   throw std::invalid_argument("fused_data_loss_grad: network shape not compiled in (fused_order1_supported)");
 }
 

@@ -1,6 +1,7 @@
 // The polish's fused order-1 kernel (cpu/polish_kernel.hpp) against the epochs' general kernel
 // (cpu::mlp_loss_grad at jet order 1) on the same points, and its gradient against central
-// finite differences in double; point counts that do not fill the last group of lanes.
+// finite differences in double; point counts that do not fill the last group of lanes. 2D Net-2
+// runs the double-backpropagation path, the other shapes the jets.
 #include <gtest/gtest.h>
 
 #include <cmath>
