@@ -377,11 +377,13 @@ struct DoubleBackprop2 {
       V acc[OB][G];
       unroll<OB>([&](auto ob) { unroll<G>([&](auto g) { acc[ob][g] = V{} + (bias ? bias[o0 + ob] : T(0)); }); });
       for (int i = 0; i < NI; ++i) {
-        V a[G];
-        unroll<G>([&](auto g) { a[g] = in[i * G + g]; });
-        unroll<OB>([&](auto ob) {
-          const T w = M[(o0 + ob) * so + i * si];
-          unroll<G>([&](auto g) { acc[ob][g] += w * a[g]; });
+        // The block's weights broadcast first, then each input vector loaded once and used by
+        // the OB products in a row (GCC otherwise folds a load into every product: 5 % slower).
+        V w[OB];
+        unroll<OB>([&](auto ob) { w[ob] = V{} + M[(o0 + ob) * so + i * si]; });
+        unroll<G>([&](auto g) {
+          const V a = in[i * G + g];
+          unroll<OB>([&](auto ob) { acc[ob][g] += w[ob] * a; });
         });
       }
       unroll<OB>([&](auto ob) { unroll<G>([&](auto g) { out[(o0 + ob) * G + g] = acc[ob][g]; }); });
