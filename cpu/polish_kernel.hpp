@@ -14,7 +14,7 @@
 // unblocked loops was slower than Eigen and was dropped.) Net-2 with two inputs (the default
 // recipe's 2D terms) takes double backpropagation instead of jets: the input gradient by a
 // backward pass and dL/dparams by the reverse of both passes, six products of the hidden layer's
-// size per point against the jets' nine (0.72x the time per evaluation). The sums run in a fixed
+// size per point against the jets' nine (0.68x the time per evaluation). The sums run in a fixed
 // order: the result is a deterministic function of the inputs, though not bit-equal to
 // mlp_loss_grad's.
 #include <vector>
