@@ -31,6 +31,29 @@ double h01(double t) { return t * t * (3 - 2 * t); }
 double h10(double t) { return t * (1 - t) * (1 - t); }
 double h11(double t) { return t * t * (t - 1); }
 
+// The lowest value on [0, 1] of the cubic Hermite with end values a, b and end slopes ma, mb:
+// the ends and the stationary points inside (roots of the derivative 3 A t^2 + 2 B t + ma). A
+// grid of samples alone misses a dip confined between its last point and an end (a knot at S = 0
+// with its slope pointing down into the cell: measured, a trained stocktiny term's corner cell).
+double hermite_min(double a, double b, double ma, double mb) {
+  auto at = [&](double t) { return a * h00(t) + b * h01(t) + ma * h10(t) + mb * h11(t); };
+  double lowest = std::min(a, b);
+  const double A = 2 * a - 2 * b + ma + mb, B = -3 * a + 3 * b - 2 * ma - mb;
+  auto visit = [&](double t) {
+    if (t > 0 && t < 1) lowest = std::min(lowest, at(t));
+  };
+  const double disc = B * B - 3 * A * ma;
+  if (A != 0 && disc >= 0) {
+    const double r = std::sqrt(disc);
+    visit((-B + r) / (3 * A));
+    visit((-B - r) / (3 * A));
+  } else if (A == 0 && B != 0) {
+    visit(-ma / (2 * B));
+  }
+  for (int k = 1; k < 32; ++k) lowest = std::min(lowest, at(k / 32.0));  // rounding near double roots
+  return lowest;
+}
+
 }  // namespace
 
 EdgeSlopeRepair repair_edge_slopes(BakedTable& t2, const BakedTerm* ti, const BakedTerm* tj) {
@@ -70,12 +93,7 @@ EdgeSlopeRepair repair_edge_slopes(BakedTable& t2, const BakedTerm* ti, const Ba
       bool dipped = false;
       for (int c = 0; c + 1 < m; ++c) {
         const double a = S(c), b = S(c + 1), ma = sigma * h * t2.f_xy[knot(c)], mb = sigma * h * t2.f_xy[knot(c + 1)];
-        double lowest = std::min(a, b);
-        for (int k = 1; k < 32; ++k) {
-          const double t = k / 32.0;
-          lowest = std::min(lowest, a * h00(t) + b * h01(t) + ma * h10(t) + mb * h11(t));
-        }
-        if (lowest >= -tol) continue;
+        if (hermite_min(a, b, ma, mb) >= -tol) continue;
         dipped = true;
         for (int j : {c, c + 1}) {
           const bool corner = j == 0 || j == m - 1;

@@ -160,3 +160,29 @@ TEST(EdgeSlopeRepair, CatchesDipsBetweenKnotsAndLeavesLinearTablesAlone) {
   for (int k = 0; k <= 400; ++k) EXPECT_GE(edge_slope(a, ti, tj, 0, -2 + 4.0 * k / 400), -1e-12) << k;
   (void)n1;
 }
+
+// A dip confined between the last of a grid of samples and a knot: S = 20 and 0.001 at two knots
+// of the x lower edge, the second's slope along the edge pointing down into the cell (S just
+// before it about 0.001 - 1 u + 60 u^2, u the distance to the knot in cells: -0.003 at u = 1/120).
+// The repair finds it from the cubic's stationary points.
+TEST(EdgeSlopeRepair, CatchesADipNextToAKnot) {
+  Fixture f;
+  const BakedTerm ti = make_baked_term(f.ti), tj = make_baked_term(f.tj);
+  BakedTable t = f.t2;
+  const int j = 10;       // y = 0; the cell [0, 0.2] (knot spacing h = 0.2)
+  t.f_x[j] = 2 - 20.0;    // S = -(f_x + Psi_I'(-1)) = -(f_x - 2)
+  t.f_x[j + 1] = 2 - 0.001;
+  t.f_xy[j] = 0;
+  t.f_xy[j + 1] = -5.0;   // slope of S along the edge per cell: sigma h f_xy = 1
+  compute_safeguard(t);
+  auto lowest_in_cell = [&](const BakedTable& tb) {
+    const BakedTerm b = make_baked_term(tb);
+    double lo = 1e300;
+    for (int k = 0; k <= 4000; ++k) lo = std::min(lo, edge_slope(b, ti, tj, 0, 0.2 * k / 4000));
+    return lo;
+  };
+  ASSERT_LT(lowest_in_cell(t), -2e-3);
+  const EdgeSlopeRepair r = repair_edge_slopes(t, &ti, &tj);
+  EXPECT_GE(r.cross_zeroed[0], 1);
+  EXPECT_GE(lowest_in_cell(t), -1e-12);
+}
