@@ -156,16 +156,19 @@ double pair_step_bound(const Problem& P, const ContactPair& c, const Eigen::Vect
   // A moving obstacle never comes closer than dmin + dhat / 10 to the cloth on its own: with
   // the cloth pinched against something fixed, the bound above would let it close 90 % of the
   // gap stage after stage, down to rounding (and through). Within that, it may only move
-  // where the pair's distance does not shrink (checked at the fractions a stage may take).
+  // where the pair's distance does not shrink by more than kFloorCreep of its gap (checked at
+  // the fractions a stage may take): a cloth edge carried along with a body whose OBJ frames
+  // are rounded (9 digits) lost 2e-12 m over a 1.7 cm move, which held the body back for good
+  // when nothing was allowed; a pinched vertex that stays loses its whole gap at once.
   bool moving = false;
   for (int k = 0; k < 4; ++k) moving = moving || (c.slot[k] < 0 && q0.segment<3>(3 * k) != q1.segment<3>(3 * k));
   if (moving && r.t > 0) {
     const double floor = c.dmin + kObstacleFloor * P.dhat;
     if (r.d0 > floor) {
       r.t = std::min(r.t, numerics::contact_ccd(c.kind, q0, q1, floor, kContactEta).t);
-    } else {  // (less rounding: a vertex carried along keeps its distance)
+    } else {  // (a vertex carried along keeps its distance, to the obstacle's rounding)
       for (double s : {0.1, 0.25, 0.5, 0.75, 0.9, 1.0})
-        if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat) {
+        if (numerics::contact_distance(c.kind, q0 + s * (q1 - q0)) < r.d0 - 1e-9 * P.dhat - kFloorCreep * (r.d0 - c.dmin)) {
           r.t = 0;
           break;
         }
@@ -178,7 +181,9 @@ double pair_step_bound(const Problem& P, const ContactPair& c, const Eigen::Vect
   for (int k = 0; k < 4; ++k)
     if (c.slot[k] < 0) h.carry += q1.segment<3>(3 * k) - q0.segment<3>(3 * k), ++n;
   h.obstacle = n > 0;
+  h.gap = r.d0 - c.dmin;
   if (n) h.carry /= n;
+  h.slot = c.slot;
   for (int s : c.slot)
     if (s >= 0) {
       h.vertex = s;
@@ -232,22 +237,38 @@ double make_move_safe(const Problem& P, const std::vector<int>& free_index, cons
       const int v = h.vertex;
       if (free_index[v] < 0 || state[v] == 3) continue;
       if (state[v] == 2) {
-        // Carried in an earlier round and still limiting against an obstacle: carried into
-        // another one (pinched). It stays instead, and holds the carrying obstacle back.
+        // Carried in an earlier round and still limiting against an obstacle that moves
+        // otherwise (by more than a tenth of the pair's gap): carried into another one
+        // (pinched). It stays instead, and holds the carrying obstacle back. Limiting against
+        // an obstacle that moves as it is carried, the pair's other cloth vertices are not yet
+        // (they are carried this round): no pinch.
         if (!h.obstacle || carried[v] == round) continue;
+        if ((h.carry - (at(x1, v) - at(x0, v))).norm() <= 0.1 * h.gap) continue;
         state[v] = 3;
         x1.segment<3>(3 * v) = at(x0, v);
         changed = true;
         continue;
       }
+      // A vertex of a self pair with a carried vertex is pushed along: carried by that
+      // vertex's carry (the next cloth layer ahead of a moving body), instead of staying and
+      // holding the carried layer, and with it the body, back. A prescribed one stays.
+      bool carry = h.obstacle;
+      V3 by = h.carry;
+      if (!h.obstacle)
+        for (int u : h.slot)
+          if (u >= 0 && u != v && state[u] == 2) {
+            carry = true;
+            by = at(x1, u) - at(x0, u);
+            break;
+          }
       // A carry that would take the vertex into a collider is refused: the vertex stays (and
       // holds the obstacle back) instead of being pushed through the floor.
       bool refused = false;
       for (const Collider& c : P.colliders)
-        refused = refused || (h.obstacle && collider_time_of_impact(c, at(x0, v), h.carry) < 1.0);
-      const V3 to = h.obstacle && !refused ? V3(at(x0, v) + h.carry) : at(x0, v);
+        refused = refused || (carry && collider_time_of_impact(c, at(x0, v), by) < 1.0);
+      const V3 to = carry && !refused ? V3(at(x0, v) + by) : at(x0, v);
       if (refused) state[v] = 3;
-      else if (h.obstacle) state[v] = 2, carried[v] = round;
+      else if (carry) state[v] = 2, carried[v] = round;
       else if (state[v] == 1) continue;
       else state[v] = 1;
       if (to != at(x1, v)) {

@@ -63,14 +63,18 @@ double contact_energy(const Problem& P, const std::vector<int>& free_index, cons
 // The largest fraction of the move (x0 -> x0 + t dx, y0 -> y0 + t dy) on which no pair comes closer
 // than d_min + eta (d(0) - d_min) (numerics: contact_ccd); 1 when the whole move is safe. A pair
 // whose obstacle points move comes no closer than d_min + dhat / 10 either (from within it,
-// only moves that do not shrink its distance, sampled along the move), so that an obstacle
-// pressing cloth against something fixed stops instead of closing the gap to rounding.
+// only moves that shrink its distance by at most kFloorCreep = 1e-3 of its gap, sampled along
+// the move: a vertex carried along keeps its distance up to the obstacle's rounding), so that
+// an obstacle pressing cloth against something fixed stops instead of closing the gap to
+// rounding.
 // hits (optional): the cloth vertices of the pairs that limit it (t < 1), with, for a pair with
 // an obstacle, the mean displacement of its obstacle points over the move.
 struct ContactHit {
   int vertex = 0;
   bool obstacle = false;
   Eigen::Vector3d carry = Eigen::Vector3d::Zero();
+  double gap = 0;  // the pair's distance less d_min at the move's start
+  std::array<int, 4> slot{-1, -1, -1, -1};  // the pair's slots (ContactPair::slot)
 };
 double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& dx,
                           const Eigen::VectorXd& y0, const Eigen::VectorXd& dy, std::vector<ContactHit>* hits = nullptr,
@@ -78,11 +82,15 @@ double contact_step_bound(const Problem& P, const Eigen::VectorXd& x0, const Eig
 
 // Makes the move (x0 -> x1, y0 -> y1) safe for contact where it can, by changing x1: a cloth
 // vertex of a limiting pair with an obstacle is carried by the obstacle's displacement (it moves
-// with the obstacle instead of being passed through), one of a limiting self pair stays at x0;
-// prescribed vertices (free_index < 0) keep their move. A carry that would cross a collider
-// (P.colliders), or that leaves the vertex limiting against an obstacle in the next round (it
-// was carried into another one: pinched), is undone for good: the vertex stays at x0 and so
-// holds the carrying obstacle back. Repeats while that changes something
+// with the obstacle instead of being passed through); one of a limiting self pair is carried
+// by the carry of the pair's carried vertex, if it has one (pushed along: the next layer of
+// cloth ahead of a moving body), else stays at x0; prescribed vertices (free_index < 0) keep
+// their move. A carry that would cross a collider (P.colliders), or that leaves the vertex
+// limiting in the next round against an obstacle whose move differs from the carry by more
+// than a tenth of the pair's gap (it was carried into another one: pinched), is undone for
+// good: the vertex stays at x0 and so holds the carrying obstacle back (still limiting against
+// an obstacle that moves as it was carried is no pinch: the pair's other cloth vertices are
+// carried in that round). Repeats while that changes something
 // (at most `rounds` times). Returns the safe fraction of the final move (1: all of it).
 double make_move_safe(const Problem& P, const std::vector<int>& free_index, const Eigen::VectorXd& x0,
                       Eigen::VectorXd& x1, const Eigen::VectorXd& y0, const Eigen::VectorXd& y1, int rounds = 6,

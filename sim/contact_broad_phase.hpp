@@ -81,10 +81,12 @@ numerics::Box3 move_box(const Idx& idx, int n, const Eigen::VectorXd& p0, const 
 // The vertex's representative: stitched vertices count as one (Problem::vertex_rep).
 inline int vertex_rep(const Problem& P, int v) { return P.vertex_rep.empty() ? v : P.vertex_rep[v]; }
 
-// contact_step_bound's CCD (sim/contact.hpp): the gap it may close (1 - eta of it), and the
-// floor of a pair with obstacle points, d_min + this times dhat.
+// contact_step_bound's CCD (sim/contact.hpp): the gap it may close (1 - eta of it), the
+// floor of a pair with obstacle points, d_min + this times dhat, and the share of its gap that
+// such a pair within the floor may lose on a move (its obstacle's rounding).
 inline constexpr double kContactEta = 0.1;
 inline constexpr double kObstacleFloor = 0.1;
+inline constexpr double kFloorCreep = 1e-3;
 
 // A broad phase kept over a region (see above). Use one per step (StepState::contact_cache):
 // the region follows the queries.

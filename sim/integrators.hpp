@@ -27,7 +27,8 @@
 // Contact (sim/contact.hpp: self-collision and obstacles), in both: the move from x_n to
 // Newton's start (the prediction, handles and obstacles moved to their targets) is made safe by
 // make_move_safe (vertices that would pass through cloth stay, those an obstacle would pass
-// through are carried along, unless that pinches them against a collider or another obstacle);
+// through are carried along, and push the cloth they would pass through along with them,
+// unless that pinches them against a collider or another obstacle);
 // when that is not enough, the step goes in stages: everything moves by 0.9 of the safe
 // fraction (contact and colliders), Newton solves there, and the next stage starts from its
 // solution, at most ObstacleMotion::max_stages times; a stage that cannot move at all ends the
