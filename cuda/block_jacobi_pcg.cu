@@ -18,6 +18,7 @@
 
 #include "cuda/block_jacobi_pcg.hpp"
 #include "cuda/check.cuh"
+#include "numerics/spd3_inverse.hpp"
 
 namespace yarnhom::cuda {
 
@@ -163,6 +164,32 @@ __global__ void update_p(int n, const double* __restrict__ z, double* __restrict
   if (i < n) p[i] = z[i] + s->beta * p[i];
 }
 
+// The system from one triangle's values (PcgDevice::upload_triangle): entry k to its row's slot
+// and its mirror's, and to both places of its diagonal block (blocks zeroed before).
+__global__ void scatter_triangle(int nnz, const double* __restrict__ t, const int* __restrict__ pos,
+                                 const int* __restrict__ mirror, const int* __restrict__ diag, double* __restrict__ v,
+                                 double* __restrict__ blocks) {
+  const int k = blockIdx.x * blockDim.x + threadIdx.x;
+  if (k >= nnz) return;
+  const double x = t[k];
+  v[pos[k]] = x;
+  if (mirror[k] >= 0) v[mirror[k]] = x;
+  const int d = diag[k];
+  if (d >= 0) {
+    const int b = d / 9, i = (d % 9) / 3, j = d % 3;
+    blocks[9 * b + 3 * i + j] = x;
+    blocks[9 * b + 3 * j + i] = x;
+  }
+}
+
+// Each diagonal block inverted in place (numerics/spd3_inverse.hpp, as on the CPU); *failed = 1
+// where one is not positive definite.
+__global__ void invert_blocks(int nb, double* __restrict__ blocks, int* failed) {
+  const int b = blockIdx.x * blockDim.x + threadIdx.x;
+  if (b >= nb) return;
+  if (!numerics::spd3_inverse(blocks + 9 * b, blocks + 9 * b)) *failed = 1;
+}
+
 template <class T>
 void alloc(T*& p, size_t n, const char* what) {
   if (p) cudaFree(p);
@@ -188,35 +215,45 @@ class DevicePcg final : public numerics::PcgDevice {
     if (graph_) cudaGraphExecDestroy(graph_);
     if (stream_) cudaStreamDestroy(stream_);
     for (void* p : {(void*)rp_, (void*)ci_, (void*)v_, (void*)bi_, (void*)x_, (void*)r_, (void*)z_, (void*)p_,
-                    (void*)q_, (void*)pa_, (void*)pb_, (void*)s_})
+                    (void*)q_, (void*)pa_, (void*)pb_, (void*)s_, (void*)tri_, (void*)pos_, (void*)mir_, (void*)dg_,
+                    (void*)failed_})
       if (p) cudaFree(p);
   }
 
   void upload(const numerics::BlockCsr& A) override {
-    const bool same = A.n == n_ && A.pattern_id != 0 && A.pattern_id == pattern_id_;
-    if (!same) {
-      n_ = A.n;
-      pattern_id_ = A.pattern_id;
-      nnz_ = A.col.size();
-      alloc(rp_, n_ + 1, "cudaMalloc (PCG rows)");
-      alloc(ci_, nnz_, "cudaMalloc (PCG columns)");
-      alloc(v_, nnz_, "cudaMalloc (PCG values)");
-      alloc(bi_, 3 * size_t(n_), "cudaMalloc (PCG block inverses)");
-      for (double** p : {&x_, &r_, &z_, &p_, &q_}) alloc(*p, n_, "cudaMalloc (PCG vectors)");
-      if (graph_) cudaGraphExecDestroy(graph_);  // it names the buffers just replaced
-      graph_ = nullptr;
-      parts_ = std::max((n_ + kThreads / 32 - 1) / (kThreads / 32), (n_ / 3 + kThreads - 1) / kThreads);
-      alloc(pa_, parts_, "cudaMalloc (PCG partial sums)");
-      alloc(pb_, parts_, "cudaMalloc (PCG partial sums)");
-      check(cudaMemcpyAsync(rp_, A.row_ptr.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice, stream_),
-            "cudaMemcpy (PCG rows)");
-      check(cudaMemcpyAsync(ci_, A.col.data(), sizeof(int) * nnz_, cudaMemcpyHostToDevice, stream_),
-            "cudaMemcpy (PCG columns)");
-    }
+    pattern(A);
     check(cudaMemcpyAsync(v_, A.val.data(), sizeof(double) * A.val.size(), cudaMemcpyHostToDevice, stream_),
           "cudaMemcpy (PCG values)");
     check(cudaMemcpyAsync(bi_, A.block_inv.data(), sizeof(double) * A.block_inv.size(), cudaMemcpyHostToDevice, stream_),
           "cudaMemcpy (PCG block inverses)");
+  }
+
+  bool upload_triangle(const numerics::BlockCsr& A, const numerics::TriangleMap& map, const double* values,
+                       int nnz) override {
+    pattern(A);
+    if (map_id_ != A.pattern_id || tri_n_ != nnz) {
+      map_id_ = A.pattern_id;
+      tri_n_ = nnz;
+      alloc(tri_, nnz, "cudaMalloc (PCG triangle)");
+      alloc(pos_, nnz, "cudaMalloc (PCG map)");
+      alloc(mir_, nnz, "cudaMalloc (PCG map)");
+      alloc(dg_, nnz, "cudaMalloc (PCG map)");
+      check(cudaMemcpyAsync(pos_, map.pos.data(), sizeof(int) * nnz, cudaMemcpyHostToDevice, stream_), "cudaMemcpy (PCG map)");
+      check(cudaMemcpyAsync(mir_, map.mirror.data(), sizeof(int) * nnz, cudaMemcpyHostToDevice, stream_),
+            "cudaMemcpy (PCG map)");
+      check(cudaMemcpyAsync(dg_, map.diag.data(), sizeof(int) * nnz, cudaMemcpyHostToDevice, stream_), "cudaMemcpy (PCG map)");
+    }
+    if (!failed_) check(cudaMalloc(&failed_, sizeof(int)), "cudaMalloc (PCG flag)");
+    check(cudaMemcpyAsync(tri_, values, sizeof(double) * nnz, cudaMemcpyHostToDevice, stream_), "cudaMemcpy (PCG values)");
+    check(cudaMemsetAsync(bi_, 0, sizeof(double) * 3 * size_t(n_), stream_), "cudaMemset (PCG blocks)");
+    check(cudaMemsetAsync(failed_, 0, sizeof(int), stream_), "cudaMemset (PCG flag)");
+    scatter_triangle<<<(nnz + kThreads - 1) / kThreads, kThreads, 0, stream_>>>(nnz, tri_, pos_, mir_, dg_, v_, bi_);
+    invert_blocks<<<(n_ / 3 + kThreads - 1) / kThreads, kThreads, 0, stream_>>>(n_ / 3, bi_, failed_);
+    check(cudaGetLastError(), "the PCG system's kernels");
+    int failed = 0;
+    check(cudaMemcpyAsync(&failed, failed_, sizeof(int), cudaMemcpyDeviceToHost, stream_), "cudaMemcpy (PCG flag)");
+    check(cudaStreamSynchronize(stream_), "cudaStreamSynchronize (PCG)");
+    return failed == 0;
   }
 
   numerics::BlockPcgResult solve(const double* b, double* x, double tol, int max_iterations) override {
@@ -271,6 +308,30 @@ class DevicePcg final : public numerics::PcgDevice {
 
   const char* name() const override { return name_.c_str(); }
 
+  // The pattern's buffers (and the vectors sized by it), again only when the pattern_id changes.
+  void pattern(const numerics::BlockCsr& A) {
+    const bool same = A.n == n_ && A.pattern_id != 0 && A.pattern_id == pattern_id_;
+    if (!same) {
+      n_ = A.n;
+      pattern_id_ = A.pattern_id;
+      nnz_ = A.col.size();
+      alloc(rp_, n_ + 1, "cudaMalloc (PCG rows)");
+      alloc(ci_, nnz_, "cudaMalloc (PCG columns)");
+      alloc(v_, nnz_, "cudaMalloc (PCG values)");
+      alloc(bi_, 3 * size_t(n_), "cudaMalloc (PCG block inverses)");
+      for (double** p : {&x_, &r_, &z_, &p_, &q_}) alloc(*p, n_, "cudaMalloc (PCG vectors)");
+      if (graph_) cudaGraphExecDestroy(graph_);  // it names the buffers just replaced
+      graph_ = nullptr;
+      parts_ = std::max((n_ + kThreads / 32 - 1) / (kThreads / 32), (n_ / 3 + kThreads - 1) / kThreads);
+      alloc(pa_, parts_, "cudaMalloc (PCG partial sums)");
+      alloc(pb_, parts_, "cudaMalloc (PCG partial sums)");
+      check(cudaMemcpyAsync(rp_, A.row_ptr.data(), sizeof(int) * (n_ + 1), cudaMemcpyHostToDevice, stream_),
+            "cudaMemcpy (PCG rows)");
+      check(cudaMemcpyAsync(ci_, A.col.data(), sizeof(int) * nnz_, cudaMemcpyHostToDevice, stream_),
+            "cudaMemcpy (PCG columns)");
+    }
+  }
+
  private:
   std::string name_;
   int n_ = 0, parts_ = 0;
@@ -282,6 +343,11 @@ class DevicePcg final : public numerics::PcgDevice {
   Scalars* s_ = nullptr;
   cudaStream_t stream_ = nullptr;
   cudaGraphExec_t graph_ = nullptr;  // kBatch iterations on this pattern's buffers
+  // upload_triangle's: the triangle's values, its map (for pattern map_id_), the failure flag
+  double* tri_ = nullptr;
+  int *pos_ = nullptr, *mir_ = nullptr, *dg_ = nullptr, *failed_ = nullptr;
+  uint64_t map_id_ = 0;
+  int tri_n_ = -1;
 };
 
 }  // namespace

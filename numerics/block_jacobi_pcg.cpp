@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 
+#include "numerics/spd3_inverse.hpp"
+
 namespace yarnhom::numerics {
 
 namespace {
@@ -24,46 +26,58 @@ double dot(int n, const double* a, const double* b) {
 void register_pcg_device(PcgDeviceFactory factory) { g_device_factory = factory; }
 PcgDeviceFactory pcg_device_factory() { return g_device_factory; }
 
-bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& out, bool same_pattern) {
+bool BlockJacobiBuilder::holds(const Eigen::SparseMatrix<double>& T, const BlockCsr& out, bool same_pattern) const {
+  const int n = int(T.rows());
+  const int nnz = int(T.nonZeros());
+  if (outer_.size() != size_t(n + 1) || inner_.size() != size_t(nnz) || out.n != n || out.pattern_id == 0 ||
+      out.pattern_id != last_id_)
+    return false;
+  return same_pattern || (std::equal(outer_.begin(), outer_.end(), T.outerIndexPtr()) &&
+                          std::equal(inner_.begin(), inner_.end(), T.innerIndexPtr()));
+}
+
+void BlockJacobiBuilder::build_pattern(const Eigen::SparseMatrix<double>& T, BlockCsr& out, bool same_pattern) {
+  if (holds(T, out, same_pattern)) return;
   const int n = int(T.rows());
   const int nnz = int(T.nonZeros());
   const int* outer = T.outerIndexPtr();
   const int* inner = T.innerIndexPtr();
-  const bool sized = outer_.size() == size_t(n + 1) && inner_.size() == size_t(nnz) && out.n == n &&
-                     out.val.size() == size_t(out.row_ptr.empty() ? 0 : out.row_ptr.back()) && out.pattern_id != 0;
-  const bool same = sized && (same_pattern || (std::equal(outer_.begin(), outer_.end(), outer) &&
-                                               std::equal(inner_.begin(), inner_.end(), inner)));
-  if (!same) {
-    static std::atomic<uint64_t> next_id{1};
-    out.pattern_id = next_id++;
-    // Count each row's entries of the whole matrix: (r, c) and, off the diagonal, (c, r).
-    outer_.assign(outer, outer + n + 1);
-    inner_.assign(inner, inner + nnz);
-    out.n = n;
-    out.row_ptr.assign(n + 1, 0);
-    for (int c = 0; c < n; ++c)
-      for (int k = outer[c]; k < outer[c + 1]; ++k) {
-        ++out.row_ptr[inner[k] + 1];
-        if (inner[k] != c) ++out.row_ptr[c + 1];
+  static std::atomic<uint64_t> next_id{1};
+  out.pattern_id = last_id_ = next_id++;
+  // Count each row's entries of the whole matrix: (r, c) and, off the diagonal, (c, r).
+  outer_.assign(outer, outer + n + 1);
+  inner_.assign(inner, inner + nnz);
+  out.n = n;
+  out.row_ptr.assign(n + 1, 0);
+  for (int c = 0; c < n; ++c)
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      ++out.row_ptr[inner[k] + 1];
+      if (inner[k] != c) ++out.row_ptr[c + 1];
+    }
+  for (int r = 0; r < n; ++r) out.row_ptr[r + 1] += out.row_ptr[r];
+  std::vector<int> fill(out.row_ptr.begin(), out.row_ptr.end() - 1);
+  out.col.assign(out.row_ptr[n], 0);
+  map_.pos.assign(nnz, 0), map_.mirror.assign(nnz, -1), map_.diag.assign(nnz, -1);
+  for (int c = 0; c < n; ++c)
+    for (int k = outer[c]; k < outer[c + 1]; ++k) {
+      const int r = inner[k];
+      map_.pos[k] = fill[r]++;
+      out.col[map_.pos[k]] = c;
+      if (r != c) {
+        map_.mirror[k] = fill[c]++;
+        out.col[map_.mirror[k]] = r;
       }
-    for (int r = 0; r < n; ++r) out.row_ptr[r + 1] += out.row_ptr[r];
-    std::vector<int> fill(out.row_ptr.begin(), out.row_ptr.end() - 1);
-    out.col.assign(out.row_ptr[n], 0);
-    pos_.assign(nnz, 0), mirror_.assign(nnz, -1), diag_.assign(nnz, -1);
-    for (int c = 0; c < n; ++c)
-      for (int k = outer[c]; k < outer[c + 1]; ++k) {
-        const int r = inner[k];
-        pos_[k] = fill[r]++;
-        out.col[pos_[k]] = c;
-        if (r != c) {
-          mirror_[k] = fill[c]++;
-          out.col[mirror_[k]] = r;
-        }
-        if (r / 3 == c / 3) diag_[k] = (r / 3) * 9 + 3 * (r % 3) + c % 3;
-      }
-    out.val.assign(out.row_ptr[n], 0.0);
-    out.block_inv.assign(3 * n, 0.0);
-  }
+      if (r / 3 == c / 3) map_.diag[k] = (r / 3) * 9 + 3 * (r % 3) + c % 3;
+    }
+}
+
+bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& out, bool same_pattern) {
+  const int n = int(T.rows());
+  const int nnz = int(T.nonZeros());
+  build_pattern(T, out, same_pattern);
+  if (out.val.size() != size_t(out.row_ptr[n])) out.val.assign(out.row_ptr[n], 0.0);
+  if (out.block_inv.size() != size_t(3 * n)) out.block_inv.assign(3 * n, 0.0);
+  const std::vector<int>&pos_ = map_.pos, &mirror_ = map_.mirror, &diag_ = map_.diag;
   const double* v = T.valuePtr();
   // The diagonal blocks are gathered into block_inv and inverted in place below. Each entry k
   // writes places of its own (its row's, its mirror's, its block's two), so the entries go on
@@ -83,16 +97,7 @@ bool BlockJacobiBuilder::build(const Eigen::SparseMatrix<double>& T, BlockCsr& o
   }
   bool ok = true;
 #pragma omp parallel for schedule(static) reduction(&& : ok) if (nnz > kParallelEntries)
-  for (int b = 0; b < n / 3; ++b) {
-    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> B(&blocks[9 * b]);
-    const Eigen::LLT<Eigen::Matrix3d> llt(B);
-    if (llt.info() != Eigen::Success) {
-      ok = false;
-      continue;
-    }
-    const Eigen::Matrix3d Bi = llt.solve(Eigen::Matrix3d::Identity());
-    B = 0.5 * (Bi + Bi.transpose());
-  }
+  for (int b = 0; b < n / 3; ++b) ok = spd3_inverse(&blocks[9 * b], &blocks[9 * b]) && ok;
   return ok;
 }
 

@@ -25,11 +25,17 @@ class BlockJacobiBuilder {
   // same_pattern: the caller knows the triangle has the pattern of this builder's last call
   // (SparseCholesky compares it anyway): the builder's own comparison is skipped.
   bool build(const Eigen::SparseMatrix<double>& triangle, BlockCsr& out, bool same_pattern = false);
+  // Only the pattern: out's n, row_ptr, col and pattern_id, and map() for it (what a device
+  // builds the rest from: PcgDevice::upload_triangle). out's val and block_inv are not written.
+  void build_pattern(const Eigen::SparseMatrix<double>& triangle, BlockCsr& out, bool same_pattern = false);
+  const TriangleMap& map() const { return map_; }
 
  private:
+  // True when out holds this builder's last pattern and the triangle has it.
+  bool holds(const Eigen::SparseMatrix<double>& triangle, const BlockCsr& out, bool same_pattern) const;
   std::vector<int> outer_, inner_;  // the pattern the map is for
-  std::vector<int> pos_, mirror_;   // entry k -> its CSR slot, and the mirrored slot (-1 on the diagonal)
-  std::vector<int> diag_;           // entry k -> its place in the block (b * 9 + 3 i + j), or -1
+  TriangleMap map_;                 // entry k -> its CSR slot, the mirrored slot, its place in its block
+  uint64_t last_id_ = 0;            // the pattern_id this builder gave last
 };
 
 // x = A^-1 b (x of size A.n, overwritten), to the relative residual tol, at most max_iterations.

@@ -26,6 +26,13 @@ struct BlockCsr {
   uint64_t pattern_id = 0;
 };
 
+// Where the entries of one triangle of A (compressed column-major, as SparseCholesky takes it)
+// go in a BlockCsr: entry k to val[pos[k]] and, off the diagonal, to val[mirror[k]] too; an entry
+// of a diagonal block (diag[k] = b * 9 + 3 i + j, else -1) to block b's (i, j) and (j, i).
+struct TriangleMap {
+  std::vector<int> pos, mirror, diag;
+};
+
 struct BlockPcgResult {
   int iterations = 0;
   double relative_residual = 0;  // |b - A x| / |b| at the end (1 for b = 0 is reported as 0)
@@ -40,6 +47,13 @@ class PcgDevice {
   // Copies the system to the device; the pattern (row_ptr, col) is uploaded again only when its
   // pattern_id differs from the last one's (0: always).
   virtual void upload(const BlockCsr& A) = 0;
+  // The same system built on the device from the triangle's nnz values (host array): the pattern
+  // (A's n, row_ptr, col, pattern_id; its val and block_inv are not read) and the map uploaded
+  // when the pattern_id changes, the values scattered and the diagonal blocks inverted there
+  // (the builder's arithmetic: a 3 x 3 Cholesky factor, its inverse). Half the bytes of upload's
+  // copy, and no pass over them on the host. False when a diagonal block is not positive
+  // definite (as BlockJacobiBuilder::build).
+  virtual bool upload_triangle(const BlockCsr& A, const TriangleMap& map, const double* values, int nnz) = 0;
   // x = A^-1 b to the relative residual tol (host arrays of n), at most max_iterations.
   virtual BlockPcgResult solve(const double* b, double* x, double tol, int max_iterations) = 0;
   virtual const char* name() const = 0;

@@ -95,13 +95,18 @@ bool SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   const bool fresh = !s.same_pattern(A);
   if (s.iterative()) {
     if (fresh) s.remember_pattern(A);
-    {
-      prof::Scope ps("solver: the block system built");
-      if (!s.builder.build(A, s.system, !fresh)) return false;
+    if (s.device) {
+      // The pattern on the host (again only when it changed), the values straight from A's
+      // triangle to the device, which scatters them and inverts the blocks.
+      {
+        prof::Scope ps("solver: the block pattern");
+        s.builder.build_pattern(A, s.system, !fresh);
+      }
+      prof::Scope pu("solver: uploaded and built on the GPU");
+      return s.device->upload_triangle(s.system, s.builder.map(), A.valuePtr(), int(A.nonZeros()));
     }
-    prof::Scope pu("solver: uploaded to the GPU");
-    if (s.device) s.device->upload(s.system);
-    return true;
+    prof::Scope ps("solver: the block system built");
+    return s.builder.build(A, s.system, !fresh);
   }
 #ifdef YARNHOM_HAVE_CHOLMOD
   if (s.use_cholmod) {

@@ -154,7 +154,9 @@ TEST(BlockJacobiPcg, BuildsTheSameSystemOnAnyThreadCount) {
 }
 
 // The pattern's identity: kept while the pattern stays (values rebuilt, with or without the
-// caller's word that it stays), a new one when it changes, never 0 once built.
+// caller's word that it stays), a new one when it changes or when the system given is not the
+// one the builder wrote last, never 0 once built; build_pattern writes the same pattern and a
+// map that puts every entry where build puts it.
 TEST(BlockJacobiPcg, KeepsThePatternIdWhileThePatternStays) {
   const Eigen::SparseMatrix<double> L = pcg_test_system(6, 0.01, 1.0);
   BlockJacobiBuilder builder;
@@ -164,15 +166,31 @@ TEST(BlockJacobiPcg, KeepsThePatternIdWhileThePatternStays) {
   EXPECT_NE(id, 0u);
   ASSERT_TRUE(builder.build(Eigen::SparseMatrix<double>(3.0 * L), A, true));
   EXPECT_EQ(A.pattern_id, id);
+  ASSERT_TRUE(builder.build(Eigen::SparseMatrix<double>(2.0 * L), A));
+  EXPECT_EQ(A.pattern_id, id);
   BlockCsr fresh;
   ASSERT_TRUE(builder.build(L, fresh, true));  // an empty system is built whatever the caller says
   EXPECT_NE(fresh.pattern_id, 0u);
-  EXPECT_EQ(fresh.val, [&] { BlockCsr r; BlockJacobiBuilder b; b.build(L, r); return r.val; }());
-  ASSERT_TRUE(builder.build(Eigen::SparseMatrix<double>(2.0 * L), A));
-  EXPECT_EQ(A.pattern_id, id);
+  EXPECT_NE(fresh.pattern_id, id);
   for (size_t k = 0; k < A.val.size(); ++k) EXPECT_EQ(A.val[k], 2.0 * fresh.val[k]);
   const Eigen::SparseMatrix<double> other = pcg_test_system(7, 0.01, 1.0);
-  ASSERT_TRUE(builder.build(other, A));
-  EXPECT_NE(A.pattern_id, id);
-  EXPECT_NE(A.pattern_id, fresh.pattern_id);
+  ASSERT_TRUE(builder.build(other, fresh));
+  EXPECT_NE(fresh.pattern_id, id);
+  // The pattern alone, and the map: entry k at pos[k] (and mirror[k]) of build's val.
+  BlockJacobiBuilder pb;
+  BlockCsr P;
+  pb.build_pattern(L, P);
+  EXPECT_NE(P.pattern_id, 0u);
+  EXPECT_EQ(P.row_ptr, A.row_ptr);
+  EXPECT_EQ(P.col, A.col);
+  EXPECT_TRUE(P.val.empty());
+  const TriangleMap& m = pb.map();
+  ASSERT_EQ(m.pos.size(), size_t(L.nonZeros()));
+  int diag = 0;
+  for (int k = 0; k < int(L.nonZeros()); ++k) {
+    EXPECT_EQ(2.0 * L.valuePtr()[k], A.val[size_t(m.pos[size_t(k)])]);
+    if (m.mirror[size_t(k)] >= 0) EXPECT_EQ(2.0 * L.valuePtr()[k], A.val[size_t(m.mirror[size_t(k)])]);
+    diag += m.diag[size_t(k)] >= 0;
+  }
+  EXPECT_EQ(diag, 6 * A.n / 3);  // each 3 x 3 diagonal block's lower triangle
 }
