@@ -116,7 +116,7 @@ void add_solver_options(CLI::App* cmd, sim::SimRunOptions& o) {
       ->check(CLI::Range(1, 1024));
   cmd->add_option("--render", o.render, "Frames to draw as PNG, e.g. 0,30,90, or none (default: the scene's); unless none, also OUT/sim.mp4 of every frame (with ffmpeg installed)");
   cmd->add_flag("--no-frames", o.no_frames, "Do not write an OBJ per frame (timing runs)");
-  cmd->add_flag("--profile", o.profile, "Time each step's parts (strain, material, chain rule, projection, assembly, solve)");
+  cmd->add_flag("--profile", o.profile, "Time each step's parts: assembly, solve, line search and the rest, the element loop's CPU time (strain, material, chain rule, projection), and the named parts in ms per step with their calls per step (the elements' derivatives, the contact terms, the broad phase's region builds, the CCD, the solver's build, upload and iterations; docs/sim.md, Outputs)");
   add_quiet_flag(cmd, o.quiet, "No progress line");
 }
 
