@@ -238,13 +238,18 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   gap_.assign(entries_.size(), -std::numeric_limits<double>::infinity());
   const auto key = [](const Entry& e) { return std::make_tuple(e.group, e.j, e.i); };
   const auto by_key = [&](const Entry& a, const Entry& b) { return key(a) < key(b); };
-  if (!snapped_ || !std::is_sorted(old.begin(), old.end(), by_key) ||
-      !std::is_sorted(entries_.begin(), entries_.end(), by_key)) {
+  // (the new list checked on the threads; the old one was checked when it was new)
+  const int64_t n = int64_t(entries_.size());
+  bool sorted = true;
+#pragma omp parallel for schedule(static) reduction(&& : sorted) if (n >= 16384)
+  for (int64_t k = 1; k < n; ++k) sorted = sorted && !by_key(entries_[size_t(k)], entries_[size_t(k - 1)]);
+  const bool old_sorted = sorted_;
+  sorted_ = sorted;
+  if (!snapped_ || !old_sorted || !sorted) {
     snapped_ = false;
     return;
   }
   // (each new entry's old twin found by bisection, on the threads: the same as one merge)
-  const int64_t n = int64_t(entries_.size());
 #pragma omp parallel for schedule(static) if (n >= 16384)
   for (int64_t k = 0; k < n; ++k) {
     const auto it = std::lower_bound(old.begin(), old.end(), entries_[size_t(k)], by_key);

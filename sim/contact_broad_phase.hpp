@@ -131,6 +131,7 @@ class ContactCache {
   Eigen::VectorXd sx_, sy_;
   std::vector<double> gap_;
   bool snapped_ = false;
+  bool sorted_ = false;  // entries_ is in (group, j, i) order (checked at each build)
   long distances_ = 0;
 };
 
