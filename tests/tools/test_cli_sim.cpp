@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -386,4 +387,38 @@ TEST(CliSim, BadInputsAreRefusedNamingTheProblem) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.out.find("--body: " + d + "/front.obj: vertex 1"), std::string::npos) << r.out;
   fs::remove_all(d);
+}
+
+// --profile prints the step's named parts (core/scope_profile.hpp): one line per part with its
+// ms per step and calls per step, the element derivatives and, with self-collision, the broad
+// phase's region builds among them; without --profile none.
+TEST(CliSim, ProfilePrintsTheStepsNamedParts) {
+  const std::string d = tmpdir("profile");
+  std::ofstream(d + "/mat.json") << hylc_json(0.3);
+  const std::string common = "sim fold -o " + d + "/o --material " + d + "/mat.json --resolution 8 --frames 3 "
+                             "--integrator linearized --render none --no-frames -q";
+  auto r = run(common + " --profile");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const size_t at = r.out.find("profile parts (ms per step");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  std::istringstream lines(r.out.substr(at));
+  std::string line;
+  std::getline(lines, line);
+  std::map<std::string, std::pair<double, double>> parts;
+  while (std::getline(lines, line)) {
+    double ms = -1, calls = -1;
+    char name[200] = {};
+    if (std::sscanf(line.c_str(), " %lf %lf %199[^\n]", &ms, &calls, name) != 3) break;
+    parts[name] = {ms, calls};
+  }
+  for (const char* part : {"derivatives: elements", "assembly: potential derivatives", "broad phase: a region built",
+                           "line search: CCD of the step", "energy: elements"}) {
+    ASSERT_TRUE(parts.count(part)) << part << "\n" << r.out;
+    EXPECT_GE(parts[part].first, 0.0) << part;
+    EXPECT_GT(parts[part].second, 0.0) << part;
+  }
+  EXPECT_DOUBLE_EQ(parts["assembly: potential derivatives"].second, 1.0);  // one solve per step
+  r = run(common);
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_EQ(r.out.find("profile parts"), std::string::npos);
 }
