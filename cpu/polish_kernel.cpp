@@ -22,6 +22,44 @@ constexpr int max_of(std::initializer_list<int> l) {
   return m;
 }
 
+// A group of G x L points into SIMD lanes (both kernels below): targets Y and weights K ([G],
+// weight 1 where the batch has none), inputs X and target gradients Gd ([D][G]); the lanes past
+// the batch's m points carry zero weight and zero inputs.
+template <class T, int D, int G, int L, class V>
+inline void load_group(const LossBatch<T>& batch, int p0, V* X, V* Gd, V* Y, V* K) {
+  const int m = batch.m;
+  for (int g = 0; g < G; ++g)
+    for (int l = 0; l < L; ++l) {
+      const int p = p0 + g * L + l;
+      const bool in = p < m;
+      Y[g][l] = in ? batch.y[p] : T(0);
+      K[g][l] = in ? (batch.wt ? batch.wt[p] : T(1)) : T(0);
+      for (int j = 0; j < D; ++j) {
+        X[j * G + g][l] = in ? batch.x[size_t(p) * D + j] : T(0);
+        Gd[j * G + g][l] = in ? batch.g[size_t(p) * D + j] : T(0);
+      }
+    }
+}
+
+// The losses from the lane sums sz, sf (sum over points of the weighted squared errors) and,
+// with grad, the gradient from the P lane accumulators dw (both kernels below).
+template <class T, int L, class V>
+inline LossValues lane_totals(const V& sz, const V& sf, T inv_m, const LossWeights& w, const V* dw, int P, T* grad) {
+  LossValues v;
+  T tz = 0, tf = 0;
+  for (int l = 0; l < L; ++l) tz += sz[l], tf += sf[l];
+  v.z = double(tz) * double(inv_m);
+  v.f = double(tf) * double(inv_m);
+  v.total = w.z * v.z + w.f * v.f;
+  if (grad)
+    for (int p = 0; p < P; ++p) {
+      T s = 0;
+      for (int l = 0; l < L; ++l) s += dw[p][l];
+      grad[p] = s;
+    }
+  return v;
+}
+
 // One network shape: input dimension D, hidden widths H..., a linear output; jets of order 1
 // (C = 1 + D channels: the value and the D input derivatives).
 template <class T, int D, int... H>
@@ -229,18 +267,7 @@ struct Fused {
     const T cz = T(w.z) * inv_m * T(2), cf = T(w.f) * inv_m * T(2);
     const bool use_z = w.z != 0, use_f = w.f != 0;
     for (int p0 = 0; p0 < m; p0 += G * L) {
-      // The group's points; lanes past the end carry zero weight and zero inputs.
-      for (int g = 0; g < G; ++g)
-        for (int l = 0; l < L; ++l) {
-          const int p = p0 + g * L + l;
-          const bool in = p < m;
-          b.Y[g][l] = in ? batch.y[p] : T(0);
-          b.K[g][l] = in ? (batch.wt ? batch.wt[p] : T(1)) : T(0);
-          for (int j = 0; j < D; ++j) {
-            b.X[j * G + g][l] = in ? batch.x[size_t(p) * D + j] : T(0);
-            b.Gd[j * G + g][l] = in ? batch.g[size_t(p) * D + j] : T(0);
-          }
-        }
+      load_group<T, D, G, L>(batch, p0, b.X, b.Gd, b.Y, b.K);
       // Layer 0: z = W x + b, z_i = W[:, i] (the input jet is (x, e_i)).
       {
         constexpr int NO = kWidth[1];
@@ -329,19 +356,7 @@ struct Fused {
         }
       });
     }
-    LossValues v;
-    T tz = 0, tf = 0;
-    for (int l = 0; l < L; ++l) tz += sz[l], tf += sf[l];
-    v.z = double(tz) * double(inv_m);
-    v.f = double(tf) * double(inv_m);
-    v.total = w.z * v.z + w.f * v.f;
-    if (grad)
-      for (int p = 0; p < P; ++p) {
-        T s = 0;
-        for (int l = 0; l < L; ++l) s += b.dw[p][l];
-        grad[p] = s;
-      }
-    return v;
+    return lane_totals<T, L>(sz, sf, inv_m, w, b.dw, P, grad);
   }
 };
 
@@ -419,17 +434,7 @@ struct DoubleBackprop2 {
     const T cz = T(w.z) * inv_m * T(2), cf = T(w.f) * inv_m * T(2);
     const bool use_z = w.z != 0, use_f = w.f != 0;
     for (int p0 = 0; p0 < m; p0 += G * L) {
-      for (int g = 0; g < G; ++g)
-        for (int l = 0; l < L; ++l) {
-          const int p = p0 + g * L + l;
-          const bool in = p < m;
-          Y[g][l] = in ? batch.y[p] : T(0);
-          K[g][l] = in ? (batch.wt ? batch.wt[p] : T(1)) : T(0);
-          for (int j = 0; j < D; ++j) {
-            X[j * G + g][l] = in ? batch.x[size_t(p) * D + j] : T(0);
-            Gd[j * G + g][l] = in ? batch.g[size_t(p) * D + j] : T(0);
-          }
-        }
+      load_group<T, D, G, L>(batch, p0, X, Gd, Y, K);
       // Forward: A0 = s(W0 x + b0), A1 = s(W1 A0 + b1), f = w2 . A1 + b2.
       for (int o = 0; o < H1; ++o)
         unroll<G>([&](auto g) { A0[o * G + g] = V{} + params[B0 + o] + w0[o * D] * X[g] + w0[o * D + 1] * X[G + g]; });
@@ -544,19 +549,7 @@ struct DoubleBackprop2 {
         unroll<D>([&](auto j) { dw[W0 + o * D + j] = dx[j]; });
       }
     }
-    LossValues out;
-    T tz = 0, tf = 0;
-    for (int l = 0; l < L; ++l) tz += sz[l], tf += sf[l];
-    out.z = double(tz) * double(inv_m);
-    out.f = double(tf) * double(inv_m);
-    out.total = w.z * out.z + w.f * out.f;
-    if (grad)
-      for (int p = 0; p < P; ++p) {
-        T s = 0;
-        for (int l = 0; l < L; ++l) s += dw[p][l];
-        grad[p] = s;
-      }
-    return out;
+    return lane_totals<T, L>(sz, sf, inv_m, w, dw, P, grad);
   }
 };
 
