@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "core/scope_profile.hpp"
@@ -226,7 +227,8 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       prof::Scope ps("line search: CCD of the step");
       feasible = max_feasible_step(P, x, p, &S);
     }
-    prof::Scope ps_trials("line search: trials and extension");
+    std::optional<prof::Scope> ps_trials;  // ends with the line search's timing below
+    ps_trials.emplace("line search: trials and extension");
     const numerics::LineSearchResult ls = numerics::armijo_backtracking(
         E, slope, feasible,
         [&](double alpha) {
@@ -269,6 +271,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       st.evaluations += ext.doublings + 1;
     }
     st.t_line_search += seconds(t2, Clock::now());
+    ps_trials.reset();
     if (!ls.accepted && reused) {
       // The inexact step found no decrease: the same point again with a factorization of its own.
       refactor = true;
