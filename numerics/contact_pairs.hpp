@@ -17,14 +17,15 @@
 // gap (ACCD's "s"), so what follows starts with a positive distance.
 //
 // Broad phase: boxes of points, edges and triangles (each over a whole move, inflated by a
-// reach) in a uniform grid (box_pairs below); candidate pairs are those whose boxes overlap.
-// The caller drops pairs sharing a vertex.
+// reach), the pairs whose boxes overlap (numerics/box_pairs.hpp). The caller drops pairs sharing
+// a vertex.
 #include <Eigen/Core>
 #include <functional>
 #include <utility>
 #include <vector>
 
 #include "numerics/barrier.hpp"
+#include "numerics/box_pairs.hpp"
 #include "numerics/ccd.hpp"
 #include "numerics/contact_distance.hpp"
 #include "numerics/hash_grid.hpp"
@@ -53,14 +54,5 @@ Box3 points_box(double reach, const Eigen::Vector3d& first, const P&... rest) {
   b.hi.array() += reach;
   return b;
 }
-
-// Pairs (i, j), i indexing `a` and j indexing `b`, whose boxes overlap (closed), each pair once,
-// sorted by j, then i. When `same` is true, a and b are one set: only i < j. A uniform grid over
-// a's boxes (a counting sort of their cells, cells about the larger boxes' size), b's boxes
-// querying it; the queries run on the OpenMP threads in fixed chunks (the result does not depend
-// on the thread count). keep (if given): a pair is returned only if keep(i, j) (called for the
-// overlapping pairs, from the threads at once).
-std::vector<std::pair<int, int>> box_pairs(const std::vector<Box3>& a, const std::vector<Box3>& b, bool same = false,
-                                           const std::function<bool(int, int)>& keep = {});
 
 }  // namespace yarnhom::numerics

@@ -179,6 +179,28 @@ TEST(ContactDistance, BoxPairsFindExactlyTheOverlappingPairsInOrder) {
   }
 }
 
+TEST(ContactDistance, BoxPairsOfFlatSheetsWhoseGridCapCoarsensTheThinAxis) {
+  // Two parallel sheets of zero-thickness boxes (a cloth's first frame: flat panels, boxes of no
+  // extent across them) and a third sheet across them: the grid's thin cells are the ones the
+  // cell cap merges (numerics/box_pairs.cpp); the pairs are exactly the brute force's.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::vector<Box3> a;
+  for (int i = 0; i < 9000; ++i) {
+    const int sheet = i % 3;
+    const V c = sheet < 2 ? V(U(rng), 0.3 * sheet, U(rng)) : V(U(rng), 0.3 * U(rng), 0.5);
+    const V e = sheet < 2 ? V(0.01 * U(rng), 0.0, 0.01 * U(rng)) : V(0.01 * U(rng), 0.01 * U(rng), 0.0);
+    a.push_back({c, c + e});
+  }
+  const auto got = box_pairs(a, a, true);
+  std::vector<std::pair<int, int>> ref;
+  for (int j = 0; j < int(a.size()); ++j)
+    for (int i = 0; i < j; ++i)
+      if (a[i].overlaps(a[j])) ref.emplace_back(i, j);
+  EXPECT_GT(ref.size(), 1000u);
+  EXPECT_EQ(got, ref);
+}
+
 TEST(ContactDistance, TriangleIntersectionOnHandMadeAndRandomCases) {
   const V a0(0, 0, 0), a1(1, 0, 0), a2(0, 1, 0);
   // Pierced through the interior, no vertex near: intersects.
