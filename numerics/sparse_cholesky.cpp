@@ -1,6 +1,7 @@
 #include "numerics/sparse_cholesky.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <vector>
 
@@ -56,9 +57,16 @@ struct SparseCholesky::Impl {
 
   bool same_pattern(const Eigen::SparseMatrix<double>& A) const {
     const Eigen::Index n = A.outerSize();
-    return last_outer.size() == size_t(n + 1) && std::equal(last_outer.begin(), last_outer.end(), A.outerIndexPtr()) &&
-           last_inner.size() == size_t(A.nonZeros()) &&
-           std::equal(last_inner.begin(), last_inner.end(), A.innerIndexPtr());
+    if (last_outer.size() != size_t(n + 1) || last_inner.size() != size_t(A.nonZeros()) ||
+        !std::equal(last_outer.begin(), last_outer.end(), A.outerIndexPtr()))
+      return false;
+    // (a simulator's matrix: millions of row indices, compared on the threads)
+    const int64_t nnz = int64_t(last_inner.size());
+    const int* a = A.innerIndexPtr();
+    bool same = true;
+#pragma omp parallel for schedule(static) reduction(&& : same) if (nnz >= (int64_t(1) << 18))
+    for (int64_t k = 0; k < nnz; ++k) same = same && last_inner[size_t(k)] == a[k];
+    return same;
   }
   void remember_pattern(const Eigen::SparseMatrix<double>& A) {
     last_outer.assign(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1);

@@ -104,4 +104,29 @@ void add_vertex_hessian(const HessianPattern& p, int f, const Eigen::Matrix3d& H
   }
 }
 
+namespace {
+constexpr Eigen::Index kParallelValues = 1 << 16;
+}
+
+void copy_pattern(const Eigen::SparseMatrix<double>& src, Eigen::SparseMatrix<double>& dst) {
+  const Eigen::SparseMatrix<double> compressed = src.isCompressed() ? Eigen::SparseMatrix<double>() : src;
+  const Eigen::SparseMatrix<double>& A = src.isCompressed() ? src : compressed;
+  dst.resize(A.rows(), A.cols());
+  const Eigen::Index nnz = A.nonZeros();
+  dst.resizeNonZeros(nnz);
+  std::copy(A.outerIndexPtr(), A.outerIndexPtr() + A.outerSize() + 1, dst.outerIndexPtr());
+  const int* in = A.innerIndexPtr();
+  int* out = dst.innerIndexPtr();
+  double* v = dst.valuePtr();
+#pragma omp parallel for schedule(static) if (nnz >= kParallelValues)
+  for (Eigen::Index k = 0; k < nnz; ++k) out[k] = in[k], v[k] = 0.0;
+}
+
+void fill_values(Eigen::SparseMatrix<double>& A, double v) {
+  double* p = A.valuePtr();
+  const Eigen::Index nnz = A.nonZeros();
+#pragma omp parallel for schedule(static) if (nnz >= kParallelValues)
+  for (Eigen::Index k = 0; k < nnz; ++k) p[k] = v;
+}
+
 }  // namespace yarnhom::sim

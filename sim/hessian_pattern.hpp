@@ -40,6 +40,11 @@ HessianPattern make_hessian_pattern(const Mesh& mesh, const DofMap& dofs);
 // value array.
 void add_element_hessian(const HessianPattern& p, int t, const Eigen::Matrix<double, 18, 18>& H, double* values);
 
+// dst: src's pattern (compressed), every value 0; the copy on the OpenMP threads.
+void copy_pattern(const Eigen::SparseMatrix<double>& src, Eigen::SparseMatrix<double>& dst);
+// Every stored value of A set to v, on the OpenMP threads.
+void fill_values(Eigen::SparseMatrix<double>& A, double v);
+
 // Adds a symmetric 3x3 block to a free vertex's diagonal block.
 void add_vertex_hessian(const HessianPattern& p, int free_vertex, const Eigen::Matrix3d& H, double* values);
 

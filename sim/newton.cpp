@@ -11,6 +11,7 @@
 #include "core/scope_profile.hpp"
 #include "numerics/newton.hpp"
 #include "numerics/pcg.hpp"
+#include "numerics/triplet_matrix.hpp"
 #include "sim/contact_pattern.hpp"
 #include "sim/hinge_angles.hpp"
 
@@ -54,7 +55,10 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
                             StepState& S, Eigen::VectorXd& x, const NewtonSettings& opt, bool profile,
                             const Eigen::VectorXd* target) {
   NewtonStats st;
-  Eigen::SparseMatrix<double> H = pat.matrix;
+  // H: the pattern's matrix, its values set to zero at each iteration; the copy and the zeroing
+  // on the threads (a garment's matrix is millions of entries: serial, a few ms a step).
+  Eigen::SparseMatrix<double> H;
+  copy_pattern(pat.matrix, H);
   Eigen::VectorXd grad(x.size());
   std::vector<Eigen::Triplet<double>> contact;
   const int F = D.num_free();
@@ -77,7 +81,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
   int budget = opt.max_iterations;
   for (int it = 0; it < budget; ++it) {
     auto t0 = Clock::now();
-    std::fill(H.valuePtr(), H.valuePtr() + H.nonZeros(), 0.0);
+    fill_values(H, 0.0);
     contact.clear();
     const bool lift = it == 0 && move.size() > 0;
     double E;
@@ -97,8 +101,7 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
     if (!contact.empty()) {
       {
         prof::Scope ps("assembly: contact and seam triplets to a matrix");
-        Hc.resize(H.rows(), H.cols());
-        Hc.setFromTriplets(contact.begin(), contact.end());
+        numerics::triplets_to_matrix(contact, H.rows(), H.cols(), Hc);
       }
       // With a kept pattern, the same values on it (sim/contact_pattern.hpp), the sum written
       // straight into it: the solver's analysis is reused while the contacts stay within it.
