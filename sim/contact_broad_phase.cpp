@@ -130,11 +130,11 @@ std::vector<GroupPairs> box_candidates(const Problem& P, const PrimBoxes& B, boo
 
 // The lists' pairs made into T by make(group, i, j), in the lists' order, on the OpenMP threads
 // (hundreds of thousands of pairs in a T-shirt's region).
-template <class T, class Make>
-std::vector<T> flatten(const std::vector<GroupPairs>& lists, Make&& make) {
+template <class Vec, class Make>
+Vec flatten(const std::vector<GroupPairs>& lists, Make&& make) {
   size_t total = 0;
   for (const auto& l : lists) total += l.second.size();
-  std::vector<T> out(total);
+  Vec out(total);
   size_t off = 0;
   for (const auto& [g, l] : lists) {
     const int64_t n = int64_t(l.size());
@@ -188,7 +188,7 @@ std::vector<ContactPair> contact_candidates(const Problem& P, const Eigen::Vecto
   if (cache) return cache->candidates(P, x0, x1, y0, y1);
   prof::Scope ps("broad phase: without a cache");
   const std::vector<double> radius = point_radius(P.obstacles);
-  return flatten<ContactPair>(box_candidates(P, prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat)),
+  return flatten<std::vector<ContactPair>>(box_candidates(P, prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat)),
                               [&](unsigned char g, int i, int j) { return make_pair(P, radius, g, i, j); });
 }
 
@@ -197,7 +197,7 @@ std::vector<ContactPair> contact_candidates_within(const Problem& P, const Eigen
   if (!has_contact(P)) return {};
   prof::Scope ps("broad phase: within a reach");
   const std::vector<double> radius = point_radius(P.obstacles);
-  return flatten<ContactPair>(box_candidates(P, prim_boxes(P, x, x, y, y, 0.5 * reach), true),
+  return flatten<std::vector<ContactPair>>(box_candidates(P, prim_boxes(P, x, x, y, y, 0.5 * reach), true),
                               [&](unsigned char g, int i, int j) { return make_pair(P, radius, g, i, j); });
 }
 
@@ -217,8 +217,8 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   ylo_ = y0.cwiseMin(y1).array() - margin;
   yhi_ = y0.cwiseMax(y1).array() + margin;
   radius_ = point_radius(P.obstacles);
-  std::vector<Entry> old;
-  std::vector<double> old_gap;
+  RawVector<Entry> old;
+  RawVector<double> old_gap;
   if (snapped_) old.swap(entries_), old_gap.swap(gap_);
   entries_.clear();
   PrimBoxes boxes;
@@ -226,16 +226,18 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
     prof::Scope pb("broad phase: boxes");
     boxes = prim_boxes(P, xlo_, xhi_, ylo_, yhi_, 0.5 * P.dhat);
   }
-  entries_ = flatten<Entry>(box_candidates(P, boxes, true), [&](unsigned char g, int i, int j) {
-    return Entry{g, i, j, make_pair(P, radius_, g, i, j)};
-  });
+  std::vector<GroupPairs> lists = box_candidates(P, boxes, true);
+  {
+    prof::Scope pe("broad phase: the region's entries");
+    entries_ = flatten<RawVector<Entry>>(lists, [](unsigned char g, int i, int j) { return Entry{g, i, j}; });
+  }
   prof::Scope pm("broad phase: merged with the last region");
   valid_ = true;
   ++builds_;
   // A pair of the old region keeps its bound at the snapshot (a bound of its distance there,
   // whatever the region); a new pair has none (-inf: computed at its first query). Both lists
   // are sorted by (group, j, i) (box_candidates' order): one merge.
-  gap_.assign(entries_.size(), -std::numeric_limits<double>::infinity());
+  gap_.resize(entries_.size());
   const auto key = [](const Entry& e) { return std::make_tuple(e.group, e.j, e.i); };
   const auto by_key = [&](const Entry& a, const Entry& b) { return key(a) < key(b); };
   // (the new list checked on the threads; the old one was checked when it was new)
@@ -245,17 +247,25 @@ void ContactCache::cover(const Problem& P, const Eigen::VectorXd& x0, const Eige
   for (int64_t k = 1; k < n; ++k) sorted = sorted && !by_key(entries_[size_t(k)], entries_[size_t(k - 1)]);
   const bool old_sorted = sorted_;
   sorted_ = sorted;
-  if (!snapped_ || !old_sorted || !sorted) {
-    snapped_ = false;
-    return;
-  }
-  // (each new entry's old twin found by bisection, on the threads: the same as one merge)
+  const bool merge = snapped_ && old_sorted && sorted;
+  snapped_ = merge;
+  // (the new list in chunks on the threads, each chunk's first old twin found by bisection and
+  // the rest by walking both lists: the same as one merge)
+  constexpr int64_t kChunk = 4096;
 #pragma omp parallel for schedule(static) if (n >= 16384)
-  for (int64_t k = 0; k < n; ++k) {
-    const auto it = std::lower_bound(old.begin(), old.end(), entries_[size_t(k)], by_key);
-    if (it != old.end() && key(*it) == key(entries_[size_t(k)])) gap_[size_t(k)] = old_gap[size_t(it - old.begin())];
+  for (int64_t c = 0; c < (n + kChunk - 1) / kChunk; ++c) {
+    const int64_t k0 = c * kChunk, k1 = std::min(n, k0 + kChunk);
+    auto it = merge ? std::lower_bound(old.begin(), old.end(), entries_[size_t(k0)], by_key) : old.end();
+    for (int64_t k = k0; k < k1; ++k) {
+      const Entry& e = entries_[size_t(k)];
+      while (it != old.end() && by_key(*it, e)) ++it;
+      gap_[size_t(k)] = it != old.end() && key(*it) == key(e) ? old_gap[size_t(it - old.begin())]
+                                                              : -std::numeric_limits<double>::infinity();
+    }
   }
 }
+
+ContactPair ContactCache::pair_of(const Problem& P, const Entry& e) const { return make_pair(P, radius_, e.group, e.i, e.j); }
 
 bool ContactCache::entry_overlaps(const Problem& P, const Entry& e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
                                   const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) const {
@@ -277,7 +287,7 @@ std::vector<ContactPair> ContactCache::candidates(const Problem& P, const Eigen:
   const PrimBoxes B = prim_boxes(P, x0, x1, y0, y1, 0.5 * P.dhat);
   std::vector<ContactPair> out;
   for (const Entry& e : entries_)
-    if (overlaps(B, e.group, e.i, e.j)) out.push_back(e.pair);
+    if (overlaps(B, e.group, e.i, e.j)) out.push_back(pair_of(P, e));
   return out;
 }
 
@@ -324,15 +334,16 @@ std::vector<ContactPair> ContactCache::near(const Problem& P, const Eigen::Vecto
   std::vector<ContactPair> out;
   distances_ += entries_in_chunks(entries_.size(), out, [&](size_t k, std::vector<ContactPair>& o) {
     const Entry& e = entries_[k];
+    const ContactPair c = pair_of(P, e);
     if (snapped_) {
-      const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
+      const double g = gap_[k] - numerics::contact_speed(c.kind, pair_move(c, dx, dy));
       if (g >= need) {
         gap_[k] = g;
         return 0;
       }
     }
-    gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x, y)) - e.pair.dmin;
-    if (gap_[k] < need && entry_overlaps(P, e, x, x, y, y)) o.push_back(e.pair);
+    gap_[k] = numerics::contact_distance(c.kind, pair_coordinates(c, x, y)) - c.dmin;
+    if (gap_[k] < need && entry_overlaps(P, e, x, x, y, y)) o.push_back(c);
     return 1;
   });
   sx_ = x;
@@ -352,18 +363,19 @@ std::vector<ContactPair> ContactCache::ccd_candidates(const Problem& P, const Ei
   std::vector<ContactPair> out;
   distances_ += entries_in_chunks(entries_.size(), out, [&](size_t k, std::vector<ContactPair>& o) {
     const Entry& e = entries_[k];
-    const double f = has_obstacle_point(e.pair) ? kObstacleFloor * P.dhat : 0.0;
-    const double l = numerics::contact_speed(e.pair.kind, pair_move(e.pair, mx, my));
+    const ContactPair c = pair_of(P, e);
+    const double f = has_obstacle_point(c) ? kObstacleFloor * P.dhat : 0.0;
+    const double l = numerics::contact_speed(c.kind, pair_move(c, mx, my));
     auto safe = [&](double g) { return (1 - kContactEta) * (g - f) - l >= m; };
     if (snapped_) {
-      const double g = gap_[k] - numerics::contact_speed(e.pair.kind, pair_move(e.pair, dx, dy));
+      const double g = gap_[k] - numerics::contact_speed(c.kind, pair_move(c, dx, dy));
       if (safe(g)) {
         gap_[k] = g;
         return 0;
       }
     }
-    gap_[k] = numerics::contact_distance(e.pair.kind, pair_coordinates(e.pair, x0, y0)) - e.pair.dmin;
-    if (!safe(gap_[k]) && entry_overlaps(P, e, x0, x1, y0, y1)) o.push_back(e.pair);
+    gap_[k] = numerics::contact_distance(c.kind, pair_coordinates(c, x0, y0)) - c.dmin;
+    if (!safe(gap_[k]) && entry_overlaps(P, e, x0, x1, y0, y1)) o.push_back(c);
     return 1;
   });
   sx_ = x0;

@@ -51,6 +51,7 @@
 #include <array>
 #include <vector>
 
+#include "core/raw_vector.hpp"
 #include "numerics/contact_distance.hpp"
 #include "numerics/hash_grid.hpp"
 #include "sim/problem.hpp"
@@ -88,8 +89,11 @@ inline constexpr double kContactEta = 0.1;
 inline constexpr double kObstacleFloor = 0.1;
 inline constexpr double kFloorCreep = 1e-3;
 
-// A broad phase kept over a region (see above). Use one per step (StepState::contact_cache):
-// the region follows the queries.
+// A broad phase kept over a region (see above). The simulation keeps one from step to step
+// (ObstacleMotion::contact_cache, sim/integrators.hpp): the region follows the queries, and the
+// pairs' bounds carry over from one step's last query to the next step's first (a bound of a
+// pair's distance at the snapshot's positions holds whatever the step), so a step's first region
+// computes only the distances its moves require, not every pair's.
 class ContactCache {
  public:
   // The pairs of contact_candidates(P, x0, x1, y0, y1), as a set.
@@ -111,11 +115,13 @@ class ContactCache {
   long distances() const { return distances_; }  // pair distances computed by near and ccd_candidates
 
  private:
+  // A region pair: its group and the two primitives (its ContactPair made from them when needed:
+  // a small entry, written on the threads at a build and read at every query).
   struct Entry {
     unsigned char group;
     int i, j;
-    ContactPair pair;
   };
+  ContactPair pair_of(const Problem& P, const Entry& e) const;
   bool covers(const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, const Eigen::VectorXd& p) const;
   // Builds the region over the move unless it covers both ends.
   void cover(const Problem& P, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1, const Eigen::VectorXd& y0,
@@ -123,13 +129,13 @@ class ContactCache {
   bool entry_overlaps(const Problem& P, const Entry& e, const Eigen::VectorXd& x0, const Eigen::VectorXd& x1,
                       const Eigen::VectorXd& y0, const Eigen::VectorXd& y1) const;
   Eigen::VectorXd xlo_, xhi_, ylo_, yhi_;
-  std::vector<Entry> entries_;
+  RawVector<Entry> entries_;
   std::vector<double> radius_;  // obstacle points' capsule radius
   bool valid_ = false;
   int builds_ = 0, queries_ = 0;
   // Near pairs: per entry a lower bound of (its distance - d_min) at (sx_, sy_), when snapped_.
   Eigen::VectorXd sx_, sy_;
-  std::vector<double> gap_;
+  RawVector<double> gap_;
   bool snapped_ = false;
   bool sorted_ = false;  // entries_ is in (group, j, i) order (checked at each build)
   long distances_ = 0;

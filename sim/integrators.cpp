@@ -90,7 +90,10 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   const bool contact = has_contact(P);
   // One broad phase serves the step's evaluations where their positions allow
   // (sim/contact_broad_phase.hpp); without self-collision every call keeps its own.
-  if (P.self_collision) S.contact_cache = std::make_shared<ContactCache>();
+  if (P.self_collision) {
+    if (obstacles && !obstacles->contact_cache) obstacles->contact_cache = std::make_shared<ContactCache>();
+    S.contact_cache = obstacles ? obstacles->contact_cache : std::make_shared<ContactCache>();
+  }
   ContactCache* cache = S.contact_cache.get();
   if (obstacles) {
     S.time = obstacles->time;

@@ -65,6 +65,9 @@ struct ObstacleMotion {
   Eigen::VectorXd y, target;
   double time = 0;  // s, the step's end (seams, gravity delay)
   int max_stages = 8;
+  // The self-collision broad phase, carried from step to step (sim/contact_broad_phase.hpp: its
+  // pairs' distance bounds carry over); made by the first step that needs it.
+  std::shared_ptr<ContactCache> contact_cache;
 };
 
 struct StepStats {

@@ -77,6 +77,28 @@ double vertex_terms(const Problem& P, const StepState& S, const Eigen::VectorXd&
   return E;
 }
 
+// E plus the per-vertex terms of every vertex, added in vertex order; with grad, their gradients
+// added to it, with values, their Hessian blocks to the free vertices' diagonal blocks. Each
+// vertex on its own on the OpenMP threads (it writes only its own entries), the sum after, in
+// order: the same on any thread count.
+double add_vertex_terms(double E, const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                        Eigen::VectorXd* grad, const HessianPattern* pat, double* values) {
+  const int n = P.mesh.num_vertices();
+  std::vector<double> e(size_t(n), 0.0);
+#pragma omp parallel for schedule(static) if (n >= 4096)
+  for (int v = 0; v < n; ++v) {
+    Eigen::Vector3d g;
+    Eigen::Matrix3d H;
+    const int f = D.free_index[size_t(v)];
+    const bool hess = values && f >= 0;
+    e[size_t(v)] = vertex_terms(P, S, x, v, grad ? &g : nullptr, hess ? &H : nullptr);
+    if (grad) grad->segment<3>(3 * v) += g;
+    if (hess) add_vertex_hessian(*pat, f, H, values);
+  }
+  for (double ev : e) E += ev;
+  return E;
+}
+
 }  // namespace
 
 namespace {
@@ -109,7 +131,7 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
   if (shell) *shell = E;
   {
     prof::Scope ps("energy: vertex terms");
-    for (int v = 0; v < P.mesh.num_vertices(); ++v) E += vertex_terms(P, S, x, v, nullptr, nullptr);
+    E = add_vertex_terms(E, P, D, S, x, nullptr, nullptr, nullptr);
     for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
   }
   if (has_contact(P)) {
@@ -138,14 +160,7 @@ double potential_derivatives(const Problem& P, const DofMap& D, const HessianPat
   }
   if (shell) *shell = E;
   prof::Scope ps_rest("derivatives: all but the elements");
-  for (int v = 0; v < P.mesh.num_vertices(); ++v) {
-    Eigen::Vector3d g;
-    Eigen::Matrix3d H;
-    const int f = D.free_index[v];
-    E += vertex_terms(P, S, x, v, &g, values && f >= 0 ? &H : nullptr);
-    grad.segment<3>(3 * v) += g;
-    if (values && f >= 0) add_vertex_hessian(pat, f, H, values);
-  }
+  E = add_vertex_terms(E, P, D, S, x, &grad, &pat, values);
   for (const FrictionContact& c : S.friction) {
     Eigen::Vector3d g;
     Eigen::Matrix3d H;
@@ -227,8 +242,8 @@ Eigen::VectorXd feasible_prediction(const Problem& P, const Eigen::VectorXd& x, 
 }
 
 Eigen::SparseMatrix<double> elastic_hessian(const Problem& P, const HessianPattern& pat, const Eigen::VectorXd& x) {
-  Eigen::SparseMatrix<double> K = pat.matrix;
-  std::fill(K.valuePtr(), K.valuePtr() + K.nonZeros(), 0.0);
+  Eigen::SparseMatrix<double> K;
+  copy_pattern(pat.matrix, K);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
   shell_energy_derivatives(P.mesh, P.rest, P.material, x, g, &pat, K.valuePtr(), nullptr, P.hessian, nullptr,
                            P.eigen_filter);

@@ -170,21 +170,33 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       if (timings) tm.scatter += since(t0);
     }
   }
-  for (int k = 0; k < nthreads - 1; ++k) {
-    grad += g_local[k];
-    if (couple) *coupling += c_local[k];
+  // The threads' gradients added entry by entry, thread 1 first (the same sums as one thread's
+  // array after another), the entries spread over the threads.
+  if (nthreads > 1) {
+    const int64_t n = int64_t(grad.size());
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; ++i)
+      for (int k = 0; k < nthreads - 1; ++k) {
+        grad[i] += g_local[size_t(k)][i];
+        if (couple) (*coupling)[i] += c_local[size_t(k)][i];
+      }
   }
   // The threads' Hessian bands added slot by slot, thread 1 first (each slot's sum in the same
   // order as one thread after another; a slot outside a band would add 0), the slots spread
-  // over the threads.
+  // over the threads in blocks, each block visiting only the bands that reach into it.
   if (hess && !h_local.empty()) {
     const int64_t nnz = int64_t(pattern->matrix.nonZeros());
+    constexpr int64_t kBlock = 4096;
+    const int64_t nblocks = (nnz + kBlock - 1) / kBlock;
 #pragma omp parallel for schedule(static)
-    for (int64_t i = 0; i < nnz; ++i)
+    for (int64_t b = 0; b < nblocks; ++b) {
+      const int64_t i0 = b * kBlock, i1 = std::min(nnz, i0 + kBlock);
       for (size_t k = 0; k < h_local.size(); ++k) {
-        const int64_t j = i - int64_t(h_lo[k]);
-        if (j >= 0 && j < int64_t(h_local[k].size())) values[i] += h_local[k][size_t(j)];
+        const int64_t lo = std::max(i0, int64_t(h_lo[k])), hi = std::min(i1, int64_t(h_lo[k] + h_local[k].size()));
+        const double* src = h_local[k].data() - h_lo[k];
+        for (int64_t i = lo; i < hi; ++i) values[i] += src[i];
       }
+    }
   }
   if (timings) {
     for (const ShellTimings& tm : tim) *timings += tm;  // per-thread elements are 0: counted below
