@@ -108,11 +108,17 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   }
   // The one-solve step while an obstacle moves (sim/integrators.hpp): the pairs' friction with
   // its majorizing Hessian, and up to three more iterations where a solve's step was cut short.
+  // The same extra iterations while gravity pulls a garment whose seams are still closing (the
+  // step ends before the sewing time): the half-sewn shirt falls onto the body, CCD cuts the one
+  // solve's step to 5-32 %, and the cloth kept the rest of the prediction's stretch.
   NewtonSettings sopt = opt;
   if (opt.max_iterations == 1 && contact && y1 != y0) {
     sopt.extra_when_cut = 3;
     S.pair_friction_majorize = true;
   }
+  const bool sewing_under_gravity =
+      !P.stitches.empty() && S.time < P.sew_time && S.gravity_scale > 0 && P.gravity.squaredNorm() > 0;
+  if (opt.max_iterations == 1 && contact && sewing_under_gravity) sopt.extra_when_cut = 3;
   // Initial guess: the inertial prediction, vertex by vertex outside the colliders
   // (feasible_prediction); then the prescribed vertices at their targets. With the prescribed
   // vertices moved within the solve (opt.prescribed_in_solve: the one-solve step), neither start
