@@ -61,6 +61,10 @@ Eigen::Vector3d path_offset(const std::vector<std::array<double, 4>>& path, doub
   if (t <= path.front()[0]) return at(0);
   for (size_t k = 1; k < path.size(); ++k)
     if (t <= path[k][0]) {
+      // A held segment gives its offset exactly: interpolating equal ends rounds (by 2e-16 m),
+      // and a capsule that moves by rounding takes the moving obstacles' step
+      // (sim/integrators.hpp).
+      if (at(k - 1) == at(k)) return at(k - 1);
       const double u = (t - path[k - 1][0]) / (path[k][0] - path[k - 1][0]);
       return (1 - u) * at(k - 1) + u * at(k);
     }
@@ -80,8 +84,11 @@ Eigen::VectorXd obstacle_positions(const ObstacleSet& o, double t) {
     const double f = std::max(0.0, t / m.frame_dt);
     const size_t i = std::min(size_t(f), m.frames.size() - 1), j = std::min(i + 1, m.frames.size() - 1);
     const double u = i == j ? 0.0 : f - double(i);
-    for (int v = 0; v < m.frames[i].rows(); ++v)
-      y.segment<3>(3 * k++) = ((1 - u) * m.frames[i].row(v) + u * m.frames[j].row(v)).transpose();
+    // A vertex at the same place in both frames stays there exactly (as in path_offset).
+    for (int v = 0; v < m.frames[i].rows(); ++v, ++k) {
+      if (m.frames[i].row(v) == m.frames[j].row(v)) y.segment<3>(3 * k) = m.frames[i].row(v).transpose();
+      else y.segment<3>(3 * k) = ((1 - u) * m.frames[i].row(v) + u * m.frames[j].row(v)).transpose();
+    }
   }
   return y;
 }
