@@ -118,7 +118,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   }
   const bool sewing_under_gravity =
       !P.stitches.empty() && S.time < P.sew_time && S.gravity_scale > 0 && P.gravity.squaredNorm() > 0;
-  if (opt.max_iterations == 1 && contact && sewing_under_gravity) sopt.extra_when_cut = 3;
+  if (opt.max_iterations == 1 && contact && sewing_under_gravity) sopt.extra_when_cut = std::max(sopt.extra_when_cut, 3);
   // Initial guess: the inertial prediction, vertex by vertex outside the colliders
   // (feasible_prediction); then the prescribed vertices at their targets. With the prescribed
   // vertices moved within the solve (opt.prescribed_in_solve: the one-solve step), neither start
