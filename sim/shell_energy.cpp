@@ -134,7 +134,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       if (timings) tm.material += since(t0);
       const double A = rest[t].area;
       E += A * me.psi;
-      const Vec18 ge = A * J.transpose().lazyProduct(me.grad);
+      const Vec18 ge = A * (J.transpose() * me.grad);
       for (int i = 0; i < 3; ++i) {
         g.segment<3>(3 * m.tris(t, i)) += ge.segment<3>(3 * i);
         if (fl[i]) g.segment<3>(3 * m.flaps(t, i)) += ge.segment<3>(9 + 3 * i);
@@ -147,20 +147,16 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
         Eigen::Matrix<double, 6, 6> Hs = me.hess;
         changed = numerics::project_psd(Hs, filter);
         if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
-        // A J^T [H]_+ J, products of fixed size evaluated coefficient by coefficient (Eigen's
-        // blocked GEMM, which these sizes would otherwise get, packs its operands first).
-        Hs *= A;
-        const Eigen::Matrix<double, 6, 18> HsJ = Hs.lazyProduct(J);
-        H.noalias() = J.transpose().lazyProduct(HsJ);
+        H.noalias() = J.transpose() * Hs * J;
         Mat9 Hin;
-        const Eigen::Vector3d gin = A * me.grad.head<3>();
+        const Eigen::Vector3d gin = me.grad.head<3>();
         inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true, filter);
         H.block<9, 9>(0, 0) += Hin;
+        H *= A;
         if (timings) tm.chain += since(t0);
       } else {
         shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
-        const Eigen::Matrix<double, 6, 18> HJ = me.hess.lazyProduct(J);
-        H += J.transpose().lazyProduct(HJ);
+        H += J.transpose() * me.hess * J;
         H *= A;
         if (timings) tm.chain += since(t0);
         changed = model == HessianModel::ProjectedElement && numerics::project_psd(H, filter);
