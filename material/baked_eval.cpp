@@ -370,6 +370,32 @@ BakedJet1 eval_baked_1d(const BakedTerm& t, double x) {
           ih * ih * (2 * c[2] + 6 * u * c[3])};
 }
 
+double eval_baked_1d_value(const BakedTerm& t, double x) {
+  if (x < t.lo[0] || x > t.hi[0]) return eval_baked_1d(t, x).f;
+  double u;
+  const int i = locate(t, 0, x, u);
+  const double* c = t.coef.data() + 4 * size_t(i);
+  return c[0] + u * (c[1] + u * (c[2] + u * c[3]));
+}
+
+double eval_baked_2d_value(const BakedTerm& t, const Eigen::Vector2d& s) {
+  if (s[0] < t.lo[0] || s[0] > t.hi[0] || s[1] < t.lo[1] || s[1] > t.hi[1]) return eval_baked_2d(t, s).f;
+  // (eval_baked_2d's f, the same operations in the same order)
+  double u, v;
+  const int i = locate(t, 0, s[0], u), jc = locate(t, 1, s[1], v);
+  const double* A = t.coef.data() + 16 * (size_t(i) * (t.n[1] - 1) + jc);
+  const double v2 = v * v;
+  const double pv0[4] = {1, v, v2, v2 * v};
+  double R0[4];
+  for (int k = 0; k < 4; ++k) {
+    const double* a = A + 4 * k;
+    R0[k] = a[0] + a[1] * pv0[1] + a[2] * pv0[2] + a[3] * pv0[3];
+  }
+  const double u2 = u * u;
+  const double pu0[4] = {1, u, u2, u2 * u};
+  return R0[0] + pu0[1] * R0[1] + pu0[2] * R0[2] + pu0[3] * R0[3];
+}
+
 BakedJet2 eval_baked_2d(const BakedTerm& t, const Eigen::Vector2d& s) {
   BakedJet2 r;
   if (s[0] < t.lo[0] || s[0] > t.hi[0] || s[1] < t.lo[1] || s[1] > t.hi[1]) {

@@ -96,6 +96,11 @@ struct BakedJet2 {
 };
 BakedJet2 eval_baked_2d(const BakedTerm& t, const Eigen::Vector2d& s);
 
+// The value alone, bit for bit eval_baked_1d's / eval_baked_2d's f (the energy passes of a
+// simulator's line search need no derivatives).
+double eval_baked_1d_value(const BakedTerm& t, double x);
+double eval_baked_2d_value(const BakedTerm& t, const Eigen::Vector2d& s);
+
 // Every channel up to `order` (<= 3) in the layout of core/jet_layout.hpp, any dimension.
 void eval_baked_jet(const BakedTerm& t, const double* s, int order, double* out);
 

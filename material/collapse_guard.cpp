@@ -133,6 +133,29 @@ void add_collapse_guard(const CollapseGuard& g, const Strain6& s, MaterialEval& 
   }
 }
 
+double add_collapse_guard_value(const CollapseGuard& g, const Strain6& s, double psi) {
+  if (!(g.scale > 0)) return psi;
+  const double m = 0.5 * (s[3] + s[5]), r = std::hypot(0.5 * (s[3] - s[5]), s[4]);
+  if (std::abs(m) + r > g.box.curvature) {  // (beyond the bending bound: the whole guard)
+    MaterialEval e;
+    e.psi = psi;
+    add_collapse_guard(g, s, e);
+    return e.psi;
+  }
+  const double k = g.scale;
+  double unused_d = 0, unused_dd = 0;
+  for (int i : {0, 2}) {
+    double v = 0;
+    add_side(k, s[i], g.box.lo[i], -1, 1 + g.box.lo[i], v, unused_d, unused_dd);
+    add_side(k, s[i], g.box.hi[i], +1, 1 + g.box.hi[i], v, unused_d, unused_dd);
+    psi += v;
+  }
+  double v = 0;
+  add_side(k, s[1], g.box.lo[1], -1, 1 + g.box.lo[1], v, unused_d, unused_dd);
+  add_side(k, s[1], g.box.hi[1], +1, 1 - g.box.hi[1], v, unused_d, unused_dd);
+  return psi + v;
+}
+
 std::string describe(const CollapseGuard& g) {
   char buf[400];
   std::snprintf(buf, sizeof buf,

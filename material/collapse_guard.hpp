@@ -69,6 +69,8 @@ GuardJet guard_profile(double z);
 // Adds G(s) with its gradient and Hessian to e. Outside the physical domain (|s_a| >= 1, s_x or
 // s_y <= -1) the value is +inf.
 void add_collapse_guard(const CollapseGuard& g, const Strain6& s, MaterialEval& e);
+// psi plus the guard's value: bit for bit what add_collapse_guard makes of e.psi == psi.
+double add_collapse_guard_value(const CollapseGuard& g, const Strain6& s, double psi);
 
 // One line for logs: "collapse guard: k = ... J/m^2 beyond s_x < ..., ...".
 std::string describe(const CollapseGuard& g);

@@ -59,6 +59,11 @@ EvenOdd series_parts(const double h[4], double q) {
   return e;
 }
 
+// T = S + d A, the mixing's value, out of line: the value-alone path (bending3_value below)
+// gets it by the same instructions (a contraction of d A + S into one fused multiply-add is
+// the compiler's choice per call site).
+[[gnu::noinline]] double mixed_value(double S, double d, double A) { return S + d * A; }
+
 // Value, gradient and Hessian of B_3 in (p, II_x, II_a, II_y) for any curvature function:
 // jet(l, order, out) writes the jet of the term at curvature l (and the fixed p), in the
 // layout of core/jet_layout.hpp; tau is the umbilic series' switch radius.
@@ -100,7 +105,7 @@ BendingEval bending3_of(const Jet& jet, bool two, double tau, double p, double a
   }
   // T(p, m, d, b) = S + d A with S, A functions of (p, m, q = d^2 + b^2).
   const double Q = G.Sq + d * G.Aq, R = G.Sqq + d * G.Aqq;
-  const double T = G.S + d * G.A;
+  const double T = mixed_value(G.S, d, G.A);
   const double Tp = P.S + d * P.A, Tm = G.Sm + d * G.Am, Td = 2 * d * Q + G.A, Tb = 2 * b * Q;
   const double Tpp = PP.S + d * PP.A, Tpm = P.Sm + d * P.Am;
   const double Qp = P.Sq + d * P.Aq, Tpd = 2 * d * Qp + P.A, Tpb = 2 * b * Qp;
@@ -183,6 +188,31 @@ BendingEval swap_curvature_axes(BendingEval e) {
 
 }  // namespace
 
+namespace {
+
+// bending3(t, p, a, b, c).value: away from the umbilic T = S + d A from the values at m +- r
+// (exact_parts' S and A), else the series of the full path.
+double bending3_value(const BakedTerm& t, double p, double a, double b, double c) {
+  const bool two = t.dim == 2;
+  const double tau = 1e-2 / t.inv_h[two ? 1 : 0];
+  const double m = 0.5 * (a + c), d = 0.5 * (a - c);
+  const double r = std::hypot(d, b);
+  if (!(r >= tau)) return bending3(t, p, a, b, c).value;
+  const double fu = two ? eval_baked_2d_value(t, {p, m + r}) : eval_baked_1d_value(t, m + r);
+  const double fv = two ? eval_baked_2d_value(t, {p, m - r}) : eval_baked_1d_value(t, m - r);
+  const double ir = 1.0 / r;
+  const double N = fu - fv;
+  return mixed_value(0.5 * (fu + fv), d, 0.5 * N * ir);  // exact_parts' S and A
+}
+
+}  // namespace
+
+double eval_bending_value(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy) {
+  if (which == 3) return bending3_value(t, p, IIx, IIa, IIy);
+  if (which != 5) throw std::invalid_argument("eval_bending_value: which must be 3 or 5");
+  return bending3_value(t, p, IIy, IIa, IIx);
+}
+
 BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy) {
   if (which == 3) return bending3(t, p, IIx, IIa, IIy);
   if (which != 5) throw std::invalid_argument("eval_bending: which must be 3 or 5");
@@ -213,6 +243,24 @@ BakedMaterial make_baked_material(const BakedModel& m, const std::string& file, 
     }
   }
   return mat;
+}
+
+double eval_material_value(const BakedMaterial& mat, const Strain6& s) {
+  double psi = mat.psi0;
+  const auto& terms = all_terms();
+  for (size_t k = 0; k < terms.size(); ++k) {
+    if (!mat.terms[k]) continue;
+    const BakedTerm& t = *mat.terms[k];
+    const std::vector<int>& idx = terms[k].indices;
+    const int bend = idx.back() == 3 || idx.back() == 5 ? idx.back() : -1;
+    if (bend < 0) {
+      psi += idx.size() == 1 ? eval_baked_1d_value(t, s[idx[0]]) : eval_baked_2d_value(t, {s[idx[0]], s[idx[1]]});
+      continue;
+    }
+    const int pi = idx.size() == 2 ? idx[0] : -1;
+    psi += eval_bending_value(t, bend, pi >= 0 ? s[pi] : 0.0, s[3], s[4], s[5]);
+  }
+  return psi;
 }
 
 MaterialEval eval_material(const BakedMaterial& mat, const Strain6& s) {

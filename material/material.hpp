@@ -50,6 +50,10 @@ struct MaterialEval {
 };
 
 MaterialEval eval_material(const BakedMaterial& mat, const Strain6& s);
+// Psi alone, bit for bit eval_material's psi (the same terms, in the same order, by the same
+// operations; the tables' derivatives and the curvature mixing's are not computed): what an
+// energy evaluation needs, at a fraction of the cost.
+double eval_material_value(const BakedMaterial& mat, const Strain6& s);
 
 // One bending term alone, for tests: the [g(K)]_00 (which = 3) or [g(K)]_11 (which = 5) part
 // of a term. For a 1D term p is ignored. Returns value, gradient and Hessian in (p, II_x,
@@ -60,6 +64,8 @@ struct BendingEval {
   Eigen::Matrix4d hess = Eigen::Matrix4d::Zero();
 };
 BendingEval eval_bending(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy);
+// Its value alone, bit for bit.
+double eval_bending_value(const BakedTerm& t, int which, double p, double IIx, double IIa, double IIy);
 
 // The same mixing for a curvature function that is not a baked table (HYLC's splines,
 // material/hylc_material.hpp): jet(p, l, order, out) writes the term's jet at (p, l) (1D: at l, p

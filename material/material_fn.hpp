@@ -11,6 +11,8 @@
 namespace yarnhom {
 
 using MaterialFn = std::function<MaterialEval(const Strain6&)>;
+// Psi alone, where a material has a cheaper path for it than MaterialFn's (bit for bit its psi).
+using MaterialValueFn = std::function<double(const Strain6&)>;
 
 // The tables alone (eval_material), keeping the material alive in the closure.
 inline MaterialFn baked_tables_fn(std::shared_ptr<const BakedMaterial> mat) {
@@ -34,6 +36,12 @@ inline MaterialFn baked_material_fn(std::shared_ptr<const BakedMaterial> mat,
   auto guard = std::make_shared<const CollapseGuard>(make_collapse_guard(baked_guard_box(*mat), tables));
   if (guard_out) *guard_out = guard;
   return guarded_material_fn(std::move(tables), guard);
+}
+
+// baked_material_fn's psi alone: the tables' values and the guard's, in its order.
+inline MaterialValueFn baked_material_value_fn(std::shared_ptr<const BakedMaterial> mat,
+                                               std::shared_ptr<const CollapseGuard> guard) {
+  return [mat, guard](const Strain6& s) { return add_collapse_guard_value(*guard, s, eval_material_value(*mat, s)); };
 }
 
 }  // namespace yarnhom

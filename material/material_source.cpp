@@ -74,6 +74,7 @@ LoadedMaterial load_material(const std::string& path) {
   auto mat = std::make_shared<BakedMaterial>(make_baked_material(bm, path, &out.missing_terms));
   out.kind = "baked";
   out.fn = baked_material_fn(mat, &out.guard);
+  out.value = baked_material_value_fn(mat, out.guard);
   if (std::isfinite(bm.areal_density) && bm.areal_density > 0) out.areal_density = bm.areal_density;
   return out;
 }

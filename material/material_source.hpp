@@ -14,6 +14,7 @@ namespace yarnhom {
 
 struct LoadedMaterial {
   MaterialFn fn;
+  MaterialValueFn value;                // fn's psi alone (baked files; empty for HYLC: use fn)
   std::optional<double> areal_density;  // kg/m^2
   std::string kind;                     // "baked" or "hylc"
   std::string missing_terms;            // baked: terms absent from the file (count as zero)

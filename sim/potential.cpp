@@ -126,7 +126,8 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
   {
     prof::Scope ps("energy: elements");
     E = known_shell ? *known_shell
-                    : shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data());
+                    : shell_energy(P.mesh, P.rest, P.material, x, S.theta_ref.empty() ? nullptr : S.theta_ref.data(),
+                                   &P.material_value);
   }
   if (shell) *shell = E;
   {

@@ -24,6 +24,7 @@ struct Problem {
   Mesh mesh;
   std::vector<ElementRest> rest;
   MaterialFn material;
+  MaterialValueFn material_value;  // its psi alone where cheaper (empty: material's psi)
   Eigen::VectorXd vertex_area;  // [n] lumped rest area, m^2
   Eigen::VectorXd mass;         // [n] areal_density * vertex_area, kg
   double areal_density = 0;     // kg/m^2

@@ -65,14 +65,15 @@ std::vector<ElementRest> make_element_rests(const Mesh& m) {
 }
 
 double shell_energy(const Mesh& m, const std::vector<ElementRest>& rest, const MaterialFn& psi, const Eigen::VectorXd& x,
-                    const double* theta_ref) {
+                    const double* theta_ref, const MaterialValueFn* value) {
+  const bool fast = value && *value;
   double E = 0;
 #pragma omp parallel for reduction(+ : E) schedule(static) if (m.num_triangles() >= kParallelElements)
   for (int t = 0; t < m.num_triangles(); ++t) {
     bool fl[3];
     const Vec18 q = gather(m, x, t, fl);
     const Strain6 s = shell_strain(q, rest[t], fl, nullptr, nullptr, nullptr, theta_ref ? theta_ref + 3 * t : nullptr);
-    E += rest[t].area * psi(s).psi;
+    E += rest[t].area * (fast ? (*value)(s) : psi(s).psi);
   }
   return E;
 }

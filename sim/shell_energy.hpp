@@ -38,9 +38,11 @@ struct ShellTimings {
 // theta_ref (optional, everywhere below): 3 per triangle, the branches of its dihedral angles
 // (sim/hinge_angles.hpp); null: every angle in (-pi, pi].
 
-// Value only (the line search's call). x: 3n, vertex-major.
+// Value only (the line search's call). x: 3n, vertex-major. value (if given and set): the
+// material's psi alone, used instead of psi's full evaluation (the same value, bit for bit,
+// without the derivatives: material/material_fn.hpp).
 double shell_energy(const Mesh& mesh, const std::vector<ElementRest>& rest, const MaterialFn& psi,
-                    const Eigen::VectorXd& x, const double* theta_ref = nullptr);
+                    const Eigen::VectorXd& x, const double* theta_ref = nullptr, const MaterialValueFn* value = nullptr);
 
 // Value; gradient added to grad (3n, all vertices); if pattern and values are given, the
 // element Hessians added to values (free vertices only), in the given model (Exact: tests

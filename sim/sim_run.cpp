@@ -400,6 +400,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   retain_freed_memory();  // every Newton iteration reallocates the same large arrays (core/heap_policy.hpp)
   SimSettings set;
   set.out_dir = o.out;
+  set.material_value = mat.value;
 #ifdef YARNHOM_SIM_CUDA
   numerics::register_pcg_device(&cuda::make_pcg_device);  // --solver pcg-cuda
 #endif

@@ -114,6 +114,7 @@ Problem scene_problem(const Scene& scene, const MaterialFn& material, double den
   if (scene.gravity.norm() > 0 && !(density > 0))
     throw std::invalid_argument("gravity needs a positive areal density (kg/m^2)");
   Problem P = make_problem(scene.mesh, material, density);
+  P.material_value = set.material_value;
   P.gravity = scene.gravity;
   P.colliders = scene.colliders;
   P.dhat = scene.dhat;

@@ -22,6 +22,9 @@ namespace yarnhom::sim {
 
 struct SimSettings {
   std::string out_dir;           // "" = write nothing
+  // The material's psi alone (material/material_fn.hpp), for the energy evaluations; empty: the
+  // material function's psi.
+  MaterialValueFn material_value;
   SolverKind solver = SolverKind::Auto;
   double pcg_tolerance = 1e-3;   // --solver pcg / pcg-cuda: relative residual of each solve
   int pcg_max_iterations = 20000;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -215,6 +216,36 @@ TEST(CollapseGuard, LoadedMaterialsRefuseCollapseByTheirEnergy) {
     b[3] = b[5] = -2000;
     expect_rises(m->fn, a, b, p.box_max, (m->kind + ": both curvatures towards -10 x the box").c_str());
   }
+}
+
+TEST(CollapseGuard, TheValueAlonePathIsTheMaterialsPsiBitForBit) {
+  // material_value (the energy evaluations' path: tables' values, the curvature mixing's value,
+  // the guard's) equals the full evaluation's psi exactly, inside and beyond the tables' boxes,
+  // at umbilic points (the mixing's series branch), beyond the guard's sides and its curvature
+  // bound; HYLC materials have none (the simulator falls back to the full evaluation).
+  const LoadedPair p = load_test_materials();
+  ASSERT_TRUE(p.baked.value);
+  EXPECT_FALSE(p.hylc.value);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> U(-1, 1);
+  int beyond = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double wide = i % 4 == 0 ? 3.0 : 1.0;  // a quarter beyond the boxes and the guard's sides
+    Strain6 s;
+    s << 0.3 + 0.6 * wide * U(rng), 0.6 * wide * U(rng), 0.3 + 0.6 * wide * U(rng), 250 * wide * U(rng),
+        250 * wide * U(rng), 250 * wide * U(rng);
+    s[0] = std::max(s[0], -0.95), s[2] = std::max(s[2], -0.95), s[1] = std::clamp(s[1], -0.98, 0.98);
+    if (i % 7 == 0) s[4] = 0, s[5] = s[3];     // umbilic: r = 0
+    if (i % 11 == 0) s[5] = s[3] + 1e-9 * U(rng);  // next to it
+    const double full = p.baked.fn(s).psi, value = p.baked.value(s);
+    if (std::isfinite(full) && (std::abs(s[3]) > 200 || std::abs(s[0]) > 1)) ++beyond;
+    if (std::isnan(full)) {
+      EXPECT_TRUE(std::isnan(value)) << s.transpose();
+    } else {
+      ASSERT_EQ(value, full) << s.transpose();
+    }
+  }
+  EXPECT_GT(beyond, 1000);
 }
 
 }  // namespace
