@@ -244,7 +244,8 @@ void record_step(StepRecord& rec, const StepStats& st, const Problem& P, const D
   }
 }
 
-// SimResult::residual_*: the last state's out-of-balance force per vertex weight, off the colliders.
+// SimResult::residual_*: the last state's out-of-balance force per vertex weight, off the colliders,
+// with the forces of the last step's time (the seams' rest gaps, which close over the sewing).
 void last_state_residual(const Problem& P, const DofMap& D, const HessianPattern& pat, const std::vector<double>& hinges,
                          SimResult& R) {
   const double g = P.gravity.norm();
@@ -253,6 +254,7 @@ void last_state_residual(const Problem& P, const DofMap& D, const HessianPattern
   S.dynamic = false;
   S.theta_ref = hinges;
   S.obstacle_y = R.obstacles;
+  if (!R.steps.empty()) S.time = R.steps.back().time;
   Eigen::VectorXd grad = Eigen::VectorXd::Zero(R.x.size());
   potential_derivatives(P, D, pat, S, R.x, grad, nullptr);
   double sum = 0, mx = 0;
