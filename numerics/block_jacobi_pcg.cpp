@@ -1,8 +1,13 @@
 #include "numerics/block_jacobi_pcg.hpp"
 
+#include <omp.h>
+
 #include <Eigen/Dense>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "numerics/spd3_inverse.hpp"
 
@@ -44,30 +49,55 @@ void BlockJacobiBuilder::build_pattern(const Eigen::SparseMatrix<double>& T, Blo
   const int* inner = T.innerIndexPtr();
   static std::atomic<uint64_t> next_id{1};
   out.pattern_id = last_id_ = next_id++;
-  // Count each row's entries of the whole matrix: (r, c) and, off the diagonal, (c, r).
   outer_.assign(outer, outer + n + 1);
   inner_.assign(inner, inner + nnz);
   out.n = n;
-  out.row_ptr.assign(n + 1, 0);
-  for (int c = 0; c < n; ++c)
-    for (int k = outer[c]; k < outer[c + 1]; ++k) {
-      ++out.row_ptr[inner[k] + 1];
-      if (inner[k] != c) ++out.row_ptr[c + 1];
+  // Row r of the whole matrix: the triangle's entries of row r (columns c <= r) in column order,
+  // then the mirrors (r, r') of column r's entries r' > r in row order: its columns ascending.
+  // An entry's place among its row's first part is its rank among that row's entries of earlier
+  // columns (a stable counting sort by row), found in blocks of columns on the threads: each
+  // block counts its rows, the counts are summed block by block, each block places its
+  // entries; the result is the same on any thread count.
+  const bool par = nnz > kParallelEntries;
+  const int nb = par ? std::max(1, omp_get_max_threads()) : 1;
+  std::vector<int> first(size_t(nb) + 1, n);  // block b: columns [first[b], first[b + 1])
+  for (int b = 0; b < nb; ++b)
+    first[size_t(b)] = int(std::lower_bound(outer, outer + n, int(int64_t(nnz) * b / nb)) - outer);
+  std::vector<int> rank(size_t(nb) * size_t(n), 0);  // block b's count, then its first rank, per row
+#pragma omp parallel for schedule(static, 1) num_threads(nb) if (par)
+  for (int b = 0; b < nb; ++b)
+    for (int c = first[size_t(b)]; c < first[size_t(b) + 1]; ++c)
+      for (int k = outer[c]; k < outer[c + 1]; ++k) ++rank[size_t(b) * n + inner[k]];
+  std::vector<int> lower(static_cast<size_t>(n));  // each row's entries in the triangle
+#pragma omp parallel for schedule(static) if (par)
+  for (int r = 0; r < n; ++r) {
+    int sum = 0;
+    for (int b = 0; b < nb; ++b) {
+      const int c = rank[size_t(b) * n + r];
+      rank[size_t(b) * n + r] = sum;
+      sum += c;
     }
-  for (int r = 0; r < n; ++r) out.row_ptr[r + 1] += out.row_ptr[r];
-  std::vector<int> fill(out.row_ptr.begin(), out.row_ptr.end() - 1);
-  out.col.assign(out.row_ptr[n], 0);
-  map_.pos.assign(nnz, 0), map_.mirror.assign(nnz, -1), map_.diag.assign(nnz, -1);
-  for (int c = 0; c < n; ++c)
-    for (int k = outer[c]; k < outer[c + 1]; ++k) {
-      const int r = inner[k];
-      map_.pos[k] = fill[r]++;
-      out.col[map_.pos[k]] = c;
-      if (r != c) {
-        map_.mirror[k] = fill[c]++;
-        out.col[map_.mirror[k]] = r;
+    lower[size_t(r)] = sum;
+  }
+  auto has_diagonal = [&](int c) { return outer[c + 1] > outer[c] && inner[outer[c]] == c; };
+  out.row_ptr.assign(size_t(n) + 1, 0);
+  for (int r = 0; r < n; ++r)
+    out.row_ptr[size_t(r) + 1] = out.row_ptr[size_t(r)] + lower[size_t(r)] + (outer[r + 1] - outer[r]) - (has_diagonal(r) ? 1 : 0);
+  out.col.resize(size_t(out.row_ptr[size_t(n)]));
+  map_.pos.resize(size_t(nnz)), map_.mirror.resize(size_t(nnz)), map_.diag.resize(size_t(nnz));
+#pragma omp parallel for schedule(static, 1) num_threads(nb) if (par)
+  for (int b = 0; b < nb; ++b)
+    for (int c = first[size_t(b)]; c < first[size_t(b) + 1]; ++c) {
+      int mirror = out.row_ptr[size_t(c)] + lower[size_t(c)];  // column c's mirrors, after row c's first part
+      for (int k = outer[c]; k < outer[c + 1]; ++k) {
+        const int r = inner[k];
+        const int p = out.row_ptr[size_t(r)] + rank[size_t(b) * n + r]++;
+        map_.pos[size_t(k)] = p;
+        out.col[size_t(p)] = c;
+        map_.mirror[size_t(k)] = r != c ? mirror : -1;
+        if (r != c) out.col[size_t(mirror++)] = r;
+        map_.diag[size_t(k)] = r / 3 == c / 3 ? (r / 3) * 9 + 3 * (r % 3) + c % 3 : -1;
       }
-      if (r / 3 == c / 3) map_.diag[k] = (r / 3) * 9 + 3 * (r % 3) + c % 3;
     }
 }
 

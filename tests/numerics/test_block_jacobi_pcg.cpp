@@ -130,14 +130,28 @@ TEST(BlockJacobiPcg, BuildsTheSameSystemOnAnyThreadCount) {
   ASSERT_GT(L.nonZeros(), 200000);
   const int saved = omp_get_max_threads();
   std::vector<BlockCsr> built;
-  for (int threads : {1, 3}) {
+  std::vector<TriangleMap> maps;
+  for (int threads : {1, 3, 4}) {
     omp_set_num_threads(threads);
     BlockJacobiBuilder builder;
     BlockCsr A;
     EXPECT_TRUE(builder.build(L, A));
     built.push_back(A);
+    maps.push_back(builder.map());
   }
   omp_set_num_threads(saved);
+  for (size_t t = 1; t < built.size(); ++t) {
+    EXPECT_EQ(built[0].row_ptr, built[t].row_ptr);
+    EXPECT_EQ(built[0].col, built[t].col);
+    EXPECT_EQ(maps[0].pos, maps[t].pos);
+    EXPECT_EQ(maps[0].mirror, maps[t].mirror);
+    EXPECT_EQ(maps[0].diag, maps[t].diag);
+  }
+  // The pattern is the whole matrix's, each row's columns ascending (the row-major matrix's).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> full(L.selfadjointView<Eigen::Lower>());
+  ASSERT_EQ(built[0].row_ptr.size(), size_t(full.rows()) + 1);
+  for (Eigen::Index r = 0; r <= full.rows(); ++r) ASSERT_EQ(built[0].row_ptr[size_t(r)], full.outerIndexPtr()[r]);
+  for (Eigen::Index k = 0; k < full.nonZeros(); ++k) ASSERT_EQ(built[0].col[size_t(k)], full.innerIndexPtr()[k]);
   EXPECT_EQ(built[0].col, built[1].col);
   EXPECT_EQ(built[0].val, built[1].val);
   EXPECT_EQ(built[0].block_inv, built[1].block_inv);
