@@ -245,33 +245,39 @@ BakedMaterial make_baked_material(const BakedModel& m, const std::string& file, 
   return mat;
 }
 
-double eval_material_value(const BakedMaterial& mat, const Strain6& s) {
-  double psi = mat.psi0;
+namespace {
+
+// Calls f(table, indices, bend, p) for every term the material has, in the terms' order: bend
+// is 3 or 5 for a bending term (p its in-plane argument's index, or -1 for a 1D term), -1 for
+// an in-plane term (whose arguments are its indices).
+template <class F>
+void for_each_baked_term(const BakedMaterial& mat, F&& f) {
   const auto& terms = all_terms();
   for (size_t k = 0; k < terms.size(); ++k) {
     if (!mat.terms[k]) continue;
-    const BakedTerm& t = *mat.terms[k];
     const std::vector<int>& idx = terms[k].indices;
     const int bend = idx.back() == 3 || idx.back() == 5 ? idx.back() : -1;
-    if (bend < 0) {
-      psi += idx.size() == 1 ? eval_baked_1d_value(t, s[idx[0]]) : eval_baked_2d_value(t, {s[idx[0]], s[idx[1]]});
-      continue;
-    }
-    const int pi = idx.size() == 2 ? idx[0] : -1;
-    psi += eval_bending_value(t, bend, pi >= 0 ? s[pi] : 0.0, s[3], s[4], s[5]);
+    f(*mat.terms[k], idx, bend, bend >= 0 && idx.size() == 2 ? idx[0] : -1);
   }
+}
+
+}  // namespace
+
+double eval_material_value(const BakedMaterial& mat, const Strain6& s) {
+  double psi = mat.psi0;
+  for_each_baked_term(mat, [&](const BakedTerm& t, const std::vector<int>& idx, int bend, int pi) {
+    if (bend < 0)
+      psi += idx.size() == 1 ? eval_baked_1d_value(t, s[idx[0]]) : eval_baked_2d_value(t, {s[idx[0]], s[idx[1]]});
+    else
+      psi += eval_bending_value(t, bend, pi >= 0 ? s[pi] : 0.0, s[3], s[4], s[5]);
+  });
   return psi;
 }
 
 MaterialEval eval_material(const BakedMaterial& mat, const Strain6& s) {
   MaterialEval out;
   out.psi = mat.psi0;
-  const auto& terms = all_terms();
-  for (size_t k = 0; k < terms.size(); ++k) {
-    if (!mat.terms[k]) continue;
-    const BakedTerm& t = *mat.terms[k];
-    const std::vector<int>& idx = terms[k].indices;
-    const int bend = idx.back() == 3 || idx.back() == 5 ? idx.back() : -1;
+  for_each_baked_term(mat, [&](const BakedTerm& t, const std::vector<int>& idx, int bend, int pi) {
     if (bend < 0) {  // in-plane: the table's own arguments
       if (idx.size() == 1) {
         const BakedJet1 j = eval_baked_1d(t, s[idx[0]]);
@@ -286,9 +292,8 @@ MaterialEval eval_material(const BakedMaterial& mat, const Strain6& s) {
           for (int b = 0; b < 2; ++b) out.hess(idx[a], idx[b]) += j.H(a, b);
         }
       }
-      continue;
+      return;
     }
-    const int pi = idx.size() == 2 ? idx[0] : -1;
     const BendingEval e = eval_bending(t, bend, pi >= 0 ? s[pi] : 0.0, s[3], s[4], s[5]);
     const int map[4] = {pi, 3, 4, 5};
     out.psi += e.value;
@@ -298,7 +303,7 @@ MaterialEval eval_material(const BakedMaterial& mat, const Strain6& s) {
       for (int b = 0; b < 4; ++b)
         if (map[b] >= 0) out.hess(map[a], map[b]) += e.hess(a, b);
     }
-  }
+  });
   return out;
 }
 

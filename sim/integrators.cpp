@@ -91,8 +91,9 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
   // One broad phase serves the step's evaluations where their positions allow
   // (sim/contact_broad_phase.hpp); without self-collision every call keeps its own.
   if (P.self_collision) {
-    if (obstacles && !obstacles->contact_cache) obstacles->contact_cache = std::make_shared<ContactCache>();
-    S.contact_cache = obstacles ? obstacles->contact_cache : std::make_shared<ContactCache>();
+    std::shared_ptr<ContactCache>& kept = obstacles ? obstacles->contact_cache : S.contact_cache;
+    if (!kept) kept = std::make_shared<ContactCache>();
+    S.contact_cache = kept;
   }
   ContactCache* cache = S.contact_cache.get();
   if (obstacles) {
