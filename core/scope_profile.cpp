@@ -28,6 +28,14 @@ bool recording() {
   const Registry& r = registry();
   return r.on && r.owner == std::this_thread::get_id();
 }
+
+int slot_of(const char* name) {
+  std::vector<Slot>& slots = registry().slots;
+  for (size_t k = 0; k < slots.size(); ++k)
+    if (slots[k].name == name) return int(k);
+  slots.push_back({name, 0, 0});  // registered when first met: a part before the parts nested in it
+  return int(slots.size()) - 1;
+}
 }  // namespace
 
 void set_enabled(bool on) {
@@ -40,15 +48,15 @@ bool enabled() { return registry().on; }
 
 Scope::Scope(const char* name) {
   if (!recording()) return;
-  std::vector<Slot>& slots = registry().slots;
-  slot_ = -1;
-  for (size_t k = 0; k < slots.size() && slot_ < 0; ++k)
-    if (slots[k].name == name) slot_ = int(k);
-  if (slot_ < 0) {  // registered when first met: a part before the parts nested in it
-    slot_ = int(slots.size());
-    slots.push_back({name, 0, 0});
-  }
+  slot_ = slot_of(name);
   start_ns_ = now_ns();
+}
+
+void add(const char* name, double seconds) {
+  if (!recording()) return;
+  Slot& s = registry().slots[size_t(slot_of(name))];
+  s.ns += (long long)(1e9 * seconds);
+  ++s.calls;
 }
 
 Scope::~Scope() {

@@ -25,6 +25,10 @@ class Scope {
   long long start_ns_ = -1;
 };
 
+// Adds seconds to name's total as one call (a time measured elsewhere: a parallel region's
+// slowest thread).
+void add(const char* name, double seconds);
+
 struct Entry {
   std::string name;
   double seconds = 0;

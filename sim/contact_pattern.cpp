@@ -1,5 +1,7 @@
 #include "sim/contact_pattern.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstdint>
 
@@ -11,6 +13,7 @@ namespace {
 
 // Below this many columns one thread builds and fills (a fork costs more than the work).
 constexpr Eigen::Index kParallelColumns = 3072;
+constexpr int64_t kParallelBlocks = 65536;  // the pad's blocks sorted on the threads from this many
 
 // The sorted union of a few sorted row lists, written to out (null: only counted); its length.
 // Column j's lists: A's rows, B's rows (B may be null), and the pad's blocks' rows (3 fa .. 3 fa + 2
@@ -75,27 +78,55 @@ void PaddedPattern::rebuild(const Eigen::SparseMatrix<double>& A, const Eigen::S
     prof::Scope pp("kept pattern: its pad (pairs within 2 dhat)");
     blocks = pad();
   }
-  // A counting sort by column block (hundreds of thousands of blocks, a few per column), then
-  // each column's few rows sorted and made unique.
+  // The pad's rows by column block: a stable counting sort (hundreds of thousands of blocks, up
+  // to millions on a T-shirt), each thread counting and placing a contiguous part of the list,
+  // then each column's few rows sorted and made unique. On the threads; the result depends only
+  // on the set of blocks.
   const Eigen::Index n = A.cols(), nb = (n + 2) / 3;
-  std::vector<int> count(size_t(nb) + 1, 0);
-  for (const auto& [fa, fb] : blocks)
-    if (fa > fb && 3 * Eigen::Index(fa) < A.rows()) ++count[size_t(fb) + 1];
-  for (Eigen::Index c = 0; c < nb; ++c) count[size_t(c) + 1] += count[size_t(c)];
-  std::vector<int> brow(size_t(count[size_t(nb)])), fill(count.begin(), count.end() - 1);
-  for (const auto& [fa, fb] : blocks)
-    if (fa > fb && 3 * Eigen::Index(fa) < A.rows()) brow[size_t(fill[size_t(fb)]++)] = fa;
-  std::vector<int> bstart(size_t(nb) + 1, 0);
-  for (Eigen::Index c = 0; c < nb; ++c) {  // sorted, unique, compacted in place
+  const int64_t nblk = int64_t(blocks.size());
+  const bool par = nblk >= kParallelBlocks;
+  const int T = par ? std::max(1, omp_get_max_threads()) : 1;
+  auto valid = [&](const std::pair<int, int>& b) { return b.first > b.second && 3 * Eigen::Index(b.first) < A.rows(); };
+  std::vector<int> rank(size_t(T) * size_t(nb), 0);  // thread u's count, then its first place, per column
+#pragma omp parallel num_threads(T) if (par)
+  {
+    const int u = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int64_t lo = nblk * u / nt, hi = nblk * (u + 1) / nt;
+    int* r = &rank[size_t(u) * size_t(nb)];
+    for (int64_t k = lo; k < hi; ++k)
+      if (valid(blocks[size_t(k)])) ++r[blocks[size_t(k)].second];
+  }
+  std::vector<int> count(size_t(nb) + 1, 0);  // column c's rows at [count[c], count[c + 1])
+  for (Eigen::Index c = 0; c < nb; ++c) {
+    int sum = count[size_t(c)];
+    for (int u = 0; u < T; ++u) {
+      const int k = rank[size_t(u) * size_t(nb) + size_t(c)];
+      rank[size_t(u) * size_t(nb) + size_t(c)] = sum;
+      sum += k;
+    }
+    count[size_t(c) + 1] = sum;
+  }
+  std::vector<int> brow(size_t(count[size_t(nb)]));
+#pragma omp parallel num_threads(T) if (par)
+  {
+    const int u = omp_get_thread_num(), nt = omp_get_num_threads();
+    const int64_t lo = nblk * u / nt, hi = nblk * (u + 1) / nt;
+    int* r = &rank[size_t(u) * size_t(nb)];
+    for (int64_t k = lo; k < hi; ++k)
+      if (valid(blocks[size_t(k)])) brow[size_t(r[blocks[size_t(k)].second]++)] = blocks[size_t(k)].first;
+  }
+  std::vector<int> bstart(size_t(nb) + 1, 0), kept(static_cast<size_t>(nb));
+#pragma omp parallel for schedule(dynamic, 256) if (par)
+  for (Eigen::Index c = 0; c < nb; ++c) {  // sorted and unique in place
     int* b = brow.data() + count[size_t(c)];
     int* e = brow.data() + count[size_t(c) + 1];
     std::sort(b, e);
-    e = std::unique(b, e);
-    int* to = brow.data() + bstart[size_t(c)];
-    const int k = int(e - b);
-    std::copy(b, e, to);
-    bstart[size_t(c) + 1] = bstart[size_t(c)] + k;
+    kept[size_t(c)] = int(std::unique(b, e) - b);
   }
+  for (Eigen::Index c = 0; c < nb; ++c) bstart[size_t(c) + 1] = bstart[size_t(c)] + kept[size_t(c)];
+  for (Eigen::Index c = 0; c < nb; ++c)  // compacted (in place: each column moves down, in order)
+    std::copy(brow.data() + count[size_t(c)], brow.data() + count[size_t(c)] + kept[size_t(c)],
+              brow.data() + bstart[size_t(c)]);
   // Column by column: the union of A's, B's and the pad's rows, counted, then written.
   const int *ao = A.outerIndexPtr(), *ai = A.innerIndexPtr();
   const int *bo = B ? B->outerIndexPtr() : nullptr, *bi = B ? B->innerIndexPtr() : nullptr;

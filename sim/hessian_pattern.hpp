@@ -31,6 +31,12 @@ struct HessianPattern {
   // null: the matrix with contact goes to the solver on its own pattern (the simulator sets it
   // with self-collision on).
   std::shared_ptr<PaddedPattern> contact;
+  // The element loop's state (sim/shell_energy.cpp), kept with the pattern: per chunk of
+  // kBandChunk triangles the value slots [lo, hi] they write (found once), and per triangle
+  // whether its Hessian was projected at the last evaluation (the loop's cost estimate).
+  static constexpr int kBandChunk = 64;
+  mutable std::vector<std::array<int, 2>> chunk_bands;
+  mutable std::vector<unsigned char> projected;
   int slot(int t, int a, int b, int c) const { return elem_slots[((size_t(t) * 6 + a) * 6 + b) * 3 + c]; }
 };
 

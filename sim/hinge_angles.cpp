@@ -7,7 +7,12 @@
 
 namespace yarnhom::sim {
 
-double unwrap_angle(double theta, double ref) { return ref + std::remainder(theta - ref, 2 * std::numbers::pi); }
+// remainder(d, 2 pi) is d itself when |d| < pi (its quotient rounds to 0): the usual case, an
+// angle near its reference, skips the library call (the same bits).
+double unwrap_angle(double theta, double ref) {
+  const double d = theta - ref;
+  return ref + (std::abs(d) < std::numbers::pi ? d : std::remainder(d, 2 * std::numbers::pi));
+}
 
 std::vector<double> hinge_angles(const Mesh& m, const Eigen::VectorXd& x, const std::vector<double>* ref) {
   std::vector<double> out(size_t(3) * m.num_triangles(), 0.0);

@@ -1,7 +1,9 @@
 #include "sim/newton.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
@@ -113,15 +115,23 @@ NewtonStats newton_minimize(const Problem& P, const DofMap& D, const HessianPatt
       } else {
         prof::Scope ps_embed("assembly: H + contact on the kept pattern");
         A = &pat.contact->embed_sum(H, Hc, [&] {
+          // Six places per pair (one per two of its four points; (-1, -1) where a point is an
+          // obstacle's or held, which the pattern skips), filled on the threads.
           const Eigen::VectorXd y = solve_obstacles(P, S);
-          std::vector<std::pair<int, int>> blocks;
-          for (const ContactPair& c : contact_candidates_within(P, x, y, 2 * P.dhat))
+          const std::vector<ContactPair> near = contact_candidates_within(P, x, y, 2 * P.dhat);
+          const int64_t nc = int64_t(near.size());
+          std::vector<std::pair<int, int>> blocks(6 * size_t(nc), {-1, -1});
+#pragma omp parallel for schedule(static) if (nc >= 8192)
+          for (int64_t i = 0; i < nc; ++i) {
+            const ContactPair& c = near[size_t(i)];
+            int f[4];
+            for (int k = 0; k < 4; ++k) f[k] = c.slot[k] >= 0 ? D.free_index[c.slot[k]] : -1;
+            int q = 0;
             for (int k = 0; k < 4; ++k)
-              for (int l = 0; l < 4; ++l) {
-                const int fk = c.slot[k] >= 0 ? D.free_index[c.slot[k]] : -1;
-                const int fl = c.slot[l] >= 0 ? D.free_index[c.slot[l]] : -1;
-                if (fk > fl && fl >= 0) blocks.emplace_back(fk, fl);
-              }
+              for (int l = k + 1; l < 4; ++l, ++q)
+                if (std::min(f[k], f[l]) >= 0 && f[k] != f[l])
+                  blocks[6 * size_t(i) + size_t(q)] = {std::max(f[k], f[l]), std::min(f[k], f[l])};
+          }
           return blocks;
         });
       }

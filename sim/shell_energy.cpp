@@ -7,6 +7,7 @@
 #include <climits>
 #include <cstdint>
 
+#include "core/scope_profile.hpp"
 #include "sim/inplane_strain.hpp"
 #include "numerics/psd_projection.hpp"
 #include "sim/shell_strain.hpp"
@@ -85,34 +86,73 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
   const bool hess = pattern && values;
   const bool couple = hess && move && coupling;
   const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
-  // Thread 0 accumulates straight into the outputs; the others into their own arrays. A
-  // thread's Hessian array spans only the value slots its triangles write (the static schedule's
-  // contiguous block of triangles: a band of the matrix), set up by the thread itself; thread k
-  // holds slots [h_lo[k], h_lo[k] + h_local[k].size()).
-  std::vector<Eigen::VectorXd> g_local(nthreads - 1);
-  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0);
-  std::vector<size_t> h_lo(h_local.size(), 0);
-  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0);
-  std::vector<ShellTimings> tim(nthreads);
-  double E = 0;
-#pragma omp parallel reduction(+ : E) if (m.num_triangles() >= kParallelElements)
-  {
-    const int tid = omp_get_thread_num();
-    if (tid > 0) {
-      g_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
-      if (couple) c_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
+  const int nt = m.num_triangles();
+  // Each thread takes a contiguous range of triangles, first[k] .. first[k + 1]: with a Hessian,
+  // ranges of equal estimated cost (a triangle projected at the last evaluation counts
+  // kProjectedCost: the 6 x 6 eigenproblems take about 40 % of an element's time and gather
+  // where the cloth is sheared or bent, so equal counts left the slowest of 16 threads 20 %
+  // behind the mean); without, equal counts. The ranges depend on the last evaluation and the
+  // thread count only: the same sums on a rerun.
+  std::vector<int> first(size_t(nthreads) + 1, nt);
+  const bool balance = hess && nthreads > 1 && pattern->projected.size() == size_t(nt);
+  if (hess && pattern->projected.size() != size_t(nt)) pattern->projected.assign(size_t(nt), 0);
+  if (balance) {
+    constexpr double kProjectedCost = 1.7;
+    double total = 0;
+    for (int t = 0; t < nt; ++t) total += pattern->projected[size_t(t)] ? kProjectedCost : 1.0;
+    double acc = 0;
+    int k = 1;
+    first[0] = 0;
+    for (int t = 0; t < nt && k < nthreads; ++t) {
+      acc += pattern->projected[size_t(t)] ? kProjectedCost : 1.0;
+      while (k < nthreads && acc >= total * k / nthreads) first[size_t(k++)] = t + 1;
     }
-    if (hess && tid > 0) {
-      // (the same static schedule as the element loop below: the same triangles)
+  } else {
+    for (int k = 0; k <= nthreads; ++k) first[size_t(k)] = int(int64_t(nt) * k / nthreads);
+  }
+  // The value slots each chunk of triangles writes, found once per pattern (the scan reads the
+  // whole slot table, 12 MB on a T-shirt).
+  constexpr int kChunk = HessianPattern::kBandChunk;
+  const int nchunks = (nt + kChunk - 1) / kChunk;
+  if (hess && pattern->chunk_bands.size() != size_t(nchunks)) {
+    pattern->chunk_bands.assign(size_t(nchunks), {INT32_MAX, -1});
+#pragma omp parallel for schedule(static) if (nthreads > 1)
+    for (int c = 0; c < nchunks; ++c) {
       int lo = INT32_MAX, hi = -1;
-#pragma omp for schedule(static) nowait
-      for (int t = 0; t < m.num_triangles(); ++t)
+      for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t)
         for (int k = 0; k < 108; ++k) {
           const int sl = pattern->elem_slots[size_t(t) * 108 + size_t(k)];
           if (sl < 0) continue;
           lo = std::min(lo, sl);
           hi = std::max(hi, sl + 2);  // a column's slots: the first stored row and (at most) two below
         }
+      pattern->chunk_bands[size_t(c)] = {lo, hi};
+    }
+  }
+  // Thread 0 accumulates straight into the outputs; the others into their own arrays. A
+  // thread's Hessian array spans only the value slots its triangles' chunks write (a band of
+  // the matrix), set up by the thread itself; thread k holds slots [h_lo[k], h_lo[k] +
+  // h_local[k].size()).
+  std::vector<Eigen::VectorXd> g_local(nthreads - 1);
+  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0);
+  std::vector<size_t> h_lo(h_local.size(), 0);
+  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0);
+  std::vector<ShellTimings> tim(nthreads);
+  std::vector<double> setup(size_t(nthreads), 0.0);  // each thread's time before its loop
+  double E = 0;
+#pragma omp parallel num_threads(nthreads) reduction(+ : E) if (nthreads > 1)
+  {
+    const int tid = omp_get_thread_num();
+    const auto t_setup = Clock::now();
+    if (tid > 0) {
+      g_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
+      if (couple) c_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
+    }
+    const int t_begin = first[size_t(tid)], t_end = first[size_t(tid) + 1];
+    if (hess && tid > 0 && t_end > t_begin) {
+      int lo = INT32_MAX, hi = -1;
+      for (int c = t_begin / kChunk; c <= (t_end - 1) / kChunk; ++c)
+        lo = std::min(lo, pattern->chunk_bands[size_t(c)][0]), hi = std::max(hi, pattern->chunk_bands[size_t(c)][1]);
       if (hi >= lo) {
         h_lo[tid - 1] = size_t(lo);
         h_local[tid - 1].assign(size_t(hi - lo + 1), 0.0);
@@ -123,8 +163,8 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
     ShellTimings& tm = tim[tid];
     Eigen::VectorXd* cp = couple ? (tid == 0 ? coupling : &c_local[tid - 1]) : nullptr;
     auto t0 = Clock::now();
-#pragma omp for schedule(static)
-    for (int t = 0; t < m.num_triangles(); ++t) {
+    setup[size_t(tid)] = std::chrono::duration<double>(t0 - t_setup).count();
+    for (int t = t_begin; t < t_end; ++t) {
       bool fl[3];
       const Vec18 q = gather(m, x, t, fl);
       Jac6x18 J;
@@ -162,6 +202,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
         if (timings) tm.chain += since(t0);
         changed = model == HessianModel::ProjectedElement && numerics::project_psd(H, filter);
       }
+      pattern->projected[size_t(t)] = changed;
       if (timings) {
         tm.project += since(t0);
         tm.projected += changed;
@@ -171,6 +212,17 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       if (timings) tm.scatter += since(t0);
     }
   }
+  if (timings && nthreads > 1) {  // the loop's balance: its slowest thread against the mean
+    double slowest = 0, sum = 0;
+    for (const ShellTimings& t : tim) {
+      const double s = t.strain + t.material + t.chain + t.project + t.scatter;
+      slowest = std::max(slowest, s), sum += s;
+    }
+    prof::add("derivatives: elements, the slowest thread's loop", slowest);
+    prof::add("derivatives: elements, the threads' mean loop", sum / nthreads);
+    prof::add("derivatives: elements, the slowest thread's set-up", *std::max_element(setup.begin(), setup.end()));
+  }
+  prof::Scope ps_sums("derivatives: elements, the threads' sums");
   // The threads' gradients added entry by entry, thread 1 first (the same sums as one thread's
   // array after another), the entries spread over the threads.
   if (nthreads > 1) {
