@@ -17,6 +17,7 @@
 namespace yarnhom::sim {
 
 class PaddedPattern;  // sim/contact_pattern.hpp
+struct ElementChunks;  // sim/shell_energy.cpp
 
 struct HessianPattern {
   Eigen::SparseMatrix<double> matrix;  // 3F x 3F, lower triangle, values 0
@@ -31,12 +32,9 @@ struct HessianPattern {
   // null: the matrix with contact goes to the solver on its own pattern (the simulator sets it
   // with self-collision on).
   std::shared_ptr<PaddedPattern> contact;
-  // The element loop's state (sim/shell_energy.cpp), kept with the pattern: per chunk of
-  // kBandChunk triangles the value slots [lo, hi] they write (found once), and per triangle
-  // whether its Hessian was projected at the last evaluation (the loop's cost estimate).
-  static constexpr int kBandChunk = 64;
-  mutable std::vector<std::array<int, 2>> chunk_bands;
-  mutable std::vector<unsigned char> projected;
+  // The element loop's chunks and their arenas (sim/shell_energy.cpp), laid out at the first
+  // evaluation with this pattern and kept.
+  mutable std::shared_ptr<ElementChunks> chunks;
   int slot(int t, int a, int b, int c) const { return elem_slots[((size_t(t) * 6 + a) * 6 + b) * 3 + c]; }
 };
 

@@ -27,6 +27,11 @@ Vec18 gather(const Mesh& m, const Eigen::VectorXd& x, int t, bool has_flap[3]) {
   return q;
 }
 
+// v's three entries of a 3n array.
+inline void add3(double* a, int v, const Eigen::Vector3d& g) {
+  a[3 * v] += g[0], a[3 * v + 1] += g[1], a[3 * v + 2] += g[2];
+}
+
 // Below this many triangles one thread does the loop: a fork and join costs more than the work,
 // and much more when the cores are shared (OpenMP barriers wait on descheduled threads).
 constexpr int kParallelElements = 1024;
@@ -42,7 +47,7 @@ inline double since(Clock::time_point& t0) {
 // coupling += H_e move_e over the element's nodes (vertices and flaps), where move touches it.
 // Kept out of line: the element loop's code, and so its rounding, stays as it was without it.
 [[gnu::noinline]] void add_coupling(const Mesh& m, int t, const bool fl[3], const Mat18& H, const Eigen::VectorXd& move,
-                                    Eigen::VectorXd& coupling) {
+                                    double* coupling) {
   Vec18 dq = Vec18::Zero();
   for (int i = 0; i < 3; ++i) {
     dq.segment<3>(3 * i) = move.segment<3>(3 * m.tris(t, i));
@@ -51,8 +56,84 @@ inline double since(Clock::time_point& t0) {
   if (!(dq.cwiseAbs().maxCoeff() > 0)) return;
   const Vec18 r = H * dq;
   for (int i = 0; i < 3; ++i) {
-    coupling.segment<3>(3 * m.tris(t, i)) += r.segment<3>(3 * i);
-    if (fl[i]) coupling.segment<3>(3 * m.flaps(t, i)) += r.segment<3>(9 + 3 * i);
+    add3(coupling, m.tris(t, i), r.segment<3>(3 * i));
+    if (fl[i]) add3(coupling, m.flaps(t, i), r.segment<3>(9 + 3 * i));
+  }
+}
+
+// The element loop's chunks (shell_energy_derivatives): fixed runs of kChunk triangles, each
+// with the vertex range and the value slots its triangles write, and arenas where each chunk
+// sums its part. Kept with the pattern (sim/hessian_pattern.hpp) across calls.
+constexpr int kChunk = 512;
+
+void sum_chunks(int64_t n, const std::vector<int64_t>& lo, const std::vector<int64_t>& hi,
+                const std::vector<int64_t>& off, const std::vector<double>& arena, double* out);
+
+}  // namespace
+
+struct ElementChunks {
+  int triangles = -1;
+  bool with_slots = false;
+  std::vector<int64_t> vlo, vhi, voff;  // gradient entries [vlo, vhi) at voff in the arenas
+  std::vector<int64_t> hlo, hhi, hoff;  // value slots [hlo, hhi) at hoff in harena
+  std::vector<double> garena, carena, harena;
+  std::vector<double> energy;           // per chunk
+};
+
+namespace {
+
+void layout_chunks(const Mesh& m, const HessianPattern* pattern, ElementChunks& C) {
+  const int nt = m.num_triangles(), nchunks = (nt + kChunk - 1) / kChunk;
+  C.triangles = nt;
+  C.with_slots = pattern != nullptr;
+  C.vlo.assign(size_t(nchunks), INT64_MAX), C.vhi.assign(size_t(nchunks), 0);
+  C.hlo.assign(pattern ? size_t(nchunks) : 0, INT64_MAX), C.hhi.assign(pattern ? size_t(nchunks) : 0, 0);
+#pragma omp parallel for schedule(static) if (nt >= kParallelElements)
+  for (int c = 0; c < nchunks; ++c)
+    for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t) {
+      for (int i = 0; i < 3; ++i)
+        for (int v : {m.tris(t, i), m.flaps(t, i)}) {
+          if (v < 0) continue;
+          C.vlo[size_t(c)] = std::min(C.vlo[size_t(c)], int64_t(3 * v));
+          C.vhi[size_t(c)] = std::max(C.vhi[size_t(c)], int64_t(3 * v + 3));
+        }
+      if (!pattern) continue;
+      for (int k = 0; k < 108; ++k) {
+        const int sl = pattern->elem_slots[size_t(t) * 108 + size_t(k)];
+        if (sl < 0) continue;
+        C.hlo[size_t(c)] = std::min(C.hlo[size_t(c)], int64_t(sl));
+        C.hhi[size_t(c)] = std::max(C.hhi[size_t(c)], int64_t(sl) + 3);  // a column's slots: the first stored row and (at most) two below
+      }
+    }
+  auto offsets = [](std::vector<int64_t>& lo, std::vector<int64_t>& hi, std::vector<int64_t>& off) {
+    off.assign(lo.size() + 1, 0);
+    for (size_t c = 0; c < lo.size(); ++c) {
+      if (hi[c] <= lo[c]) lo[c] = hi[c] = 0;  // (a chunk that writes nothing)
+      off[c + 1] = off[c] + (hi[c] - lo[c]);
+    }
+  };
+  offsets(C.vlo, C.vhi, C.voff);
+  if (pattern) offsets(C.hlo, C.hhi, C.hoff);
+  C.garena.resize(size_t(C.voff.back()));
+  C.harena.resize(pattern ? size_t(C.hoff.back()) : 0);
+  C.energy.resize(size_t(nchunks));
+}
+
+// out[i] += the chunks' arenas at i, chunk 0 first (each entry's sum in the same order whatever
+// the thread count), the entries spread over the threads in blocks, each block visiting only
+// the chunks whose range reaches into it.
+void sum_chunks(int64_t n, const std::vector<int64_t>& lo, const std::vector<int64_t>& hi,
+                const std::vector<int64_t>& off, const std::vector<double>& arena, double* out) {
+  constexpr int64_t kBlock = 4096;
+  const int64_t nblocks = (n + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) if (nblocks > 4)
+  for (int64_t b = 0; b < nblocks; ++b) {
+    const int64_t i0 = b * kBlock, i1 = std::min(n, i0 + kBlock);
+    for (size_t c = 0; c < lo.size(); ++c) {
+      const int64_t a = std::max(i0, lo[c]), e = std::min(i1, hi[c]);
+      const double* src = arena.data() + off[c] - lo[c];
+      for (int64_t i = a; i < e; ++i) out[i] += src[i];
+    }
   }
 }
 
@@ -85,131 +166,95 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
                                 numerics::EigenFilter filter, const Eigen::VectorXd* move, Eigen::VectorXd* coupling) {
   const bool hess = pattern && values;
   const bool couple = hess && move && coupling;
-  const int nthreads = m.num_triangles() >= kParallelElements ? omp_get_max_threads() : 1;
   const int nt = m.num_triangles();
-  // Each thread takes a contiguous range of triangles, first[k] .. first[k + 1]: with a Hessian,
-  // ranges of equal estimated cost (a triangle projected at the last evaluation counts
-  // kProjectedCost: the 6 x 6 eigenproblems take about 40 % of an element's time and gather
-  // where the cloth is sheared or bent, so equal counts left the slowest of 16 threads 20 %
-  // behind the mean); without, equal counts. The ranges depend on the last evaluation and the
-  // thread count only: the same sums on a rerun.
-  std::vector<int> first(size_t(nthreads) + 1, nt);
-  const bool balance = hess && nthreads > 1 && pattern->projected.size() == size_t(nt);
-  if (hess && pattern->projected.size() != size_t(nt)) pattern->projected.assign(size_t(nt), 0);
-  if (balance) {
-    constexpr double kProjectedCost = 1.7;
-    double total = 0;
-    for (int t = 0; t < nt; ++t) total += pattern->projected[size_t(t)] ? kProjectedCost : 1.0;
-    double acc = 0;
-    int k = 1;
-    first[0] = 0;
-    for (int t = 0; t < nt && k < nthreads; ++t) {
-      acc += pattern->projected[size_t(t)] ? kProjectedCost : 1.0;
-      while (k < nthreads && acc >= total * k / nthreads) first[size_t(k++)] = t + 1;
-    }
+  // Fixed chunks of kChunk triangles, taken by the threads as they come (the cost of a triangle
+  // varies: its eigenproblems, its material's tables; fixed ranges per thread left the slowest
+  // of 16 threads 20 % behind the mean). Each chunk sums its energy, gradient and Hessian in its
+  // own place (an arena slice over the vertices and value slots it touches, laid out once per
+  // pattern); the chunks' parts are then added in chunk order. So every sum has one order, on
+  // any number of threads.
+  std::shared_ptr<ElementChunks> local;
+  ElementChunks* C = nullptr;
+  if (hess) {
+    if (!pattern->chunks) pattern->chunks = std::make_shared<ElementChunks>();
+    C = pattern->chunks.get();
   } else {
-    for (int k = 0; k <= nthreads; ++k) first[size_t(k)] = int(int64_t(nt) * k / nthreads);
+    local = std::make_shared<ElementChunks>();
+    C = local.get();
   }
-  // The value slots each chunk of triangles writes, found once per pattern (the scan reads the
-  // whole slot table, 12 MB on a T-shirt).
-  constexpr int kChunk = HessianPattern::kBandChunk;
-  const int nchunks = (nt + kChunk - 1) / kChunk;
-  if (hess && pattern->chunk_bands.size() != size_t(nchunks)) {
-    pattern->chunk_bands.assign(size_t(nchunks), {INT32_MAX, -1});
-#pragma omp parallel for schedule(static) if (nthreads > 1)
-    for (int c = 0; c < nchunks; ++c) {
-      int lo = INT32_MAX, hi = -1;
-      for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t)
-        for (int k = 0; k < 108; ++k) {
-          const int sl = pattern->elem_slots[size_t(t) * 108 + size_t(k)];
-          if (sl < 0) continue;
-          lo = std::min(lo, sl);
-          hi = std::max(hi, sl + 2);  // a column's slots: the first stored row and (at most) two below
-        }
-      pattern->chunk_bands[size_t(c)] = {lo, hi};
-    }
-  }
-  // Thread 0 accumulates straight into the outputs; the others into their own arrays. A
-  // thread's Hessian array spans only the value slots its triangles' chunks write (a band of
-  // the matrix), set up by the thread itself; thread k holds slots [h_lo[k], h_lo[k] +
-  // h_local[k].size()).
-  std::vector<Eigen::VectorXd> g_local(nthreads - 1);
-  std::vector<std::vector<double>> h_local(hess ? nthreads - 1 : 0);
-  std::vector<size_t> h_lo(h_local.size(), 0);
-  std::vector<Eigen::VectorXd> c_local(couple ? nthreads - 1 : 0);
+  if (C->triangles != nt || C->with_slots != hess) layout_chunks(m, hess ? pattern : nullptr, *C);
+  if (couple && C->carena.size() != C->garena.size()) C->carena.resize(C->garena.size());
+  const int nchunks = int(C->energy.size());
+  const int nthreads = nt >= kParallelElements ? omp_get_max_threads() : 1;
   std::vector<ShellTimings> tim(nthreads);
-  std::vector<double> setup(size_t(nthreads), 0.0);  // each thread's time before its loop
-  double E = 0;
-#pragma omp parallel num_threads(nthreads) reduction(+ : E) if (nthreads > 1)
+#pragma omp parallel num_threads(nthreads) if (nthreads > 1)
   {
-    const int tid = omp_get_thread_num();
-    const auto t_setup = Clock::now();
-    if (tid > 0) {
-      g_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
-      if (couple) c_local[tid - 1] = Eigen::VectorXd::Zero(grad.size());
-    }
-    const int t_begin = first[size_t(tid)], t_end = first[size_t(tid) + 1];
-    if (hess && tid > 0 && t_end > t_begin) {
-      int lo = INT32_MAX, hi = -1;
-      for (int c = t_begin / kChunk; c <= (t_end - 1) / kChunk; ++c)
-        lo = std::min(lo, pattern->chunk_bands[size_t(c)][0]), hi = std::max(hi, pattern->chunk_bands[size_t(c)][1]);
-      if (hi >= lo) {
-        h_lo[tid - 1] = size_t(lo);
-        h_local[tid - 1].assign(size_t(hi - lo + 1), 0.0);
+    ShellTimings& tm = tim[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1)
+    for (int c = 0; c < nchunks; ++c) {
+      // This chunk's places, zeroed, offset so that entry i of a 3n array (slot k) is g[i] (hv[k]).
+      const size_t c_ = size_t(c);
+      std::fill(C->garena.begin() + C->voff[c_], C->garena.begin() + C->voff[c_ + 1], 0.0);
+      double* g = C->garena.data() + C->voff[c_] - C->vlo[c_];
+      double* cp = nullptr;
+      if (couple) {
+        std::fill(C->carena.begin() + C->voff[c_], C->carena.begin() + C->voff[c_ + 1], 0.0);
+        cp = C->carena.data() + C->voff[c_] - C->vlo[c_];
       }
-    }
-    Eigen::VectorXd& g = tid == 0 ? grad : g_local[tid - 1];
-    double* hv = hess ? (tid == 0 ? values : h_local[tid - 1].data() - h_lo[tid - 1]) : nullptr;
-    ShellTimings& tm = tim[tid];
-    Eigen::VectorXd* cp = couple ? (tid == 0 ? coupling : &c_local[tid - 1]) : nullptr;
-    auto t0 = Clock::now();
-    setup[size_t(tid)] = std::chrono::duration<double>(t0 - t_setup).count();
-    for (int t = t_begin; t < t_end; ++t) {
-      bool fl[3];
-      const Vec18 q = gather(m, x, t, fl);
-      Jac6x18 J;
-      const double* ref = theta_ref ? theta_ref + 3 * t : nullptr;
-      const Strain6 s = shell_strain(q, rest[t], fl, &J, nullptr, nullptr, ref);
-      if (timings) tm.strain += since(t0);
-      const MaterialEval me = psi(s);
-      if (timings) tm.material += since(t0);
-      const double A = rest[t].area;
-      E += A * me.psi;
-      const Vec18 ge = A * (J.transpose() * me.grad);
-      for (int i = 0; i < 3; ++i) {
-        g.segment<3>(3 * m.tris(t, i)) += ge.segment<3>(3 * i);
-        if (fl[i]) g.segment<3>(3 * m.flaps(t, i)) += ge.segment<3>(9 + 3 * i);
+      double* hv = nullptr;
+      if (hess) {
+        std::fill(C->harena.begin() + C->hoff[c_], C->harena.begin() + C->hoff[c_ + 1], 0.0);
+        hv = C->harena.data() + C->hoff[c_] - C->hlo[c_];
       }
-      if (!hess) continue;
-      Mat18 H;
-      bool changed = false;
-      if (model == HessianModel::Split) {
-        // J^T [H]_+ J + C^T [Hf]_+ C (sim/hessian_model.hpp); no bending curvature term.
-        Eigen::Matrix<double, 6, 6> Hs = me.hess;
-        changed = numerics::project_psd(Hs, filter);
-        if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
-        H.noalias() = J.transpose() * Hs * J;
-        Mat9 Hin;
-        const Eigen::Vector3d gin = me.grad.head<3>();
-        inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true, filter);
-        H.block<9, 9>(0, 0) += Hin;
-        H *= A;
-        if (timings) tm.chain += since(t0);
-      } else {
-        shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
-        H += J.transpose() * me.hess * J;
-        H *= A;
-        if (timings) tm.chain += since(t0);
-        changed = model == HessianModel::ProjectedElement && numerics::project_psd(H, filter);
+      double E = 0;
+      auto t0 = Clock::now();
+      for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t) {
+        bool fl[3];
+        const Vec18 q = gather(m, x, t, fl);
+        Jac6x18 J;
+        const double* ref = theta_ref ? theta_ref + 3 * t : nullptr;
+        const Strain6 s = shell_strain(q, rest[t], fl, &J, nullptr, nullptr, ref);
+        if (timings) tm.strain += since(t0);
+        const MaterialEval me = psi(s);
+        if (timings) tm.material += since(t0);
+        const double A = rest[t].area;
+        E += A * me.psi;
+        const Vec18 ge = A * (J.transpose() * me.grad);
+        for (int i = 0; i < 3; ++i) {
+          add3(g, m.tris(t, i), ge.segment<3>(3 * i));
+          if (fl[i]) add3(g, m.flaps(t, i), ge.segment<3>(9 + 3 * i));
+        }
+        if (!hess) continue;
+        Mat18 H;
+        bool changed = false;
+        if (model == HessianModel::Split) {
+          // J^T [H]_+ J + C^T [Hf]_+ C (sim/hessian_model.hpp); no bending curvature term.
+          Eigen::Matrix<double, 6, 6> Hs = me.hess;
+          changed = numerics::project_psd(Hs, filter);
+          if (timings) tm.project += since(t0);  // the in-plane term's 6 x 6 projection counts as chain rule
+          H.noalias() = J.transpose() * Hs * J;
+          Mat9 Hin;
+          const Eigen::Vector3d gin = me.grad.head<3>();
+          inplane_strain(q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), rest[t].Binv, nullptr, &gin, &Hin, true, filter);
+          H.block<9, 9>(0, 0) += Hin;
+          H *= A;
+          if (timings) tm.chain += since(t0);
+        } else {
+          shell_strain(q, rest[t], fl, nullptr, &me.grad, &H, ref);
+          H += J.transpose() * me.hess * J;
+          H *= A;
+          if (timings) tm.chain += since(t0);
+          changed = model == HessianModel::ProjectedElement && numerics::project_psd(H, filter);
+        }
+        if (timings) {
+          tm.project += since(t0);
+          tm.projected += changed;
+        }
+        add_element_hessian(*pattern, t, H, hv);
+        if (cp) add_coupling(m, t, fl, H, *move, cp);
+        if (timings) tm.scatter += since(t0);
       }
-      pattern->projected[size_t(t)] = changed;
-      if (timings) {
-        tm.project += since(t0);
-        tm.projected += changed;
-      }
-      add_element_hessian(*pattern, t, H, hv);
-      if (cp) add_coupling(m, t, fl, H, *move, *cp);
-      if (timings) tm.scatter += since(t0);
+      C->energy[c_] = E;
     }
   }
   if (timings && nthreads > 1) {  // the loop's balance: its slowest thread against the mean
@@ -220,37 +265,13 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
     }
     prof::add("derivatives: elements, the slowest thread's loop", slowest);
     prof::add("derivatives: elements, the threads' mean loop", sum / nthreads);
-    prof::add("derivatives: elements, the slowest thread's set-up", *std::max_element(setup.begin(), setup.end()));
   }
-  prof::Scope ps_sums("derivatives: elements, the threads' sums");
-  // The threads' gradients added entry by entry, thread 1 first (the same sums as one thread's
-  // array after another), the entries spread over the threads.
-  if (nthreads > 1) {
-    const int64_t n = int64_t(grad.size());
-#pragma omp parallel for schedule(static)
-    for (int64_t i = 0; i < n; ++i)
-      for (int k = 0; k < nthreads - 1; ++k) {
-        grad[i] += g_local[size_t(k)][i];
-        if (couple) (*coupling)[i] += c_local[size_t(k)][i];
-      }
-  }
-  // The threads' Hessian bands added slot by slot, thread 1 first (each slot's sum in the same
-  // order as one thread after another; a slot outside a band would add 0), the slots spread
-  // over the threads in blocks, each block visiting only the bands that reach into it.
-  if (hess && !h_local.empty()) {
-    const int64_t nnz = int64_t(pattern->matrix.nonZeros());
-    constexpr int64_t kBlock = 4096;
-    const int64_t nblocks = (nnz + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(static)
-    for (int64_t b = 0; b < nblocks; ++b) {
-      const int64_t i0 = b * kBlock, i1 = std::min(nnz, i0 + kBlock);
-      for (size_t k = 0; k < h_local.size(); ++k) {
-        const int64_t lo = std::max(i0, int64_t(h_lo[k])), hi = std::min(i1, int64_t(h_lo[k] + h_local[k].size()));
-        const double* src = h_local[k].data() - h_lo[k];
-        for (int64_t i = lo; i < hi; ++i) values[i] += src[i];
-      }
-    }
-  }
+  prof::Scope ps_sums("derivatives: elements, the chunks' sums");
+  double E = 0;
+  for (double e : C->energy) E += e;
+  sum_chunks(grad.size(), C->vlo, C->vhi, C->voff, C->garena, grad.data());
+  if (couple) sum_chunks(coupling->size(), C->vlo, C->vhi, C->voff, C->carena, coupling->data());
+  if (hess) sum_chunks(pattern->matrix.nonZeros(), C->hlo, C->hhi, C->hoff, C->harena, values);
   if (timings) {
     for (const ShellTimings& tm : tim) *timings += tm;  // per-thread elements are 0: counted below
     timings->elements += m.num_triangles();
