@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -190,12 +191,6 @@ __global__ void invert_blocks(int nb, double* __restrict__ blocks, int* failed) 
   if (!numerics::spd3_inverse(blocks + 9 * b, blocks + 9 * b)) *failed = 1;
 }
 
-template <class T>
-void alloc(T*& p, size_t n, const char* what) {
-  if (p) cudaFree(p);
-  p = nullptr;
-  check(cudaMalloc(&p, std::max<size_t>(n, 1) * sizeof(T)), what);
-}
 
 class DevicePcg final : public numerics::PcgDevice {
  public:
@@ -308,6 +303,19 @@ class DevicePcg final : public numerics::PcgDevice {
 
   const char* name() const override { return name_.c_str(); }
 
+  // p with room for n elements; a buffer that has it already is kept (a T-shirt's pattern
+  // changes every few steps, by a few hundred entries: cudaFree waits for the device, and each
+  // of the 15 buffers cost one).
+  template <class T>
+  void alloc(T*& p, size_t n, const char* what) {
+    size_t& cap = capacity_[(void*)&p];
+    if (p && n <= cap) return;
+    if (p) cudaFree(p);
+    p = nullptr;
+    cap = std::max<size_t>(n, 1) + n / 8;  // (an eighth to spare: patterns grow by a little)
+    check(cudaMalloc(&p, cap * sizeof(T)), what);
+  }
+
   // The pattern's buffers (and the vectors sized by it), again only when the pattern_id changes.
   void pattern(const numerics::BlockCsr& A) {
     const bool same = A.n == n_ && A.pattern_id != 0 && A.pattern_id == pattern_id_;
@@ -334,6 +342,7 @@ class DevicePcg final : public numerics::PcgDevice {
 
  private:
   std::string name_;
+  std::map<void*, size_t> capacity_;  // alloc's buffers: elements room
   int n_ = 0, parts_ = 0;
   uint64_t pattern_id_ = 0;
   size_t nnz_ = 0;

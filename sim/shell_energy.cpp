@@ -61,10 +61,14 @@ inline double since(Clock::time_point& t0) {
   }
 }
 
-// The element loop's chunks (shell_energy_derivatives): fixed runs of kChunk triangles, each
+// The element loop's chunks (shell_energy_derivatives): fixed runs of triangles, each
 // with the vertex range and the value slots its triangles write, and arenas where each chunk
 // sums its part. Kept with the pattern (sim/hessian_pattern.hpp) across calls.
-constexpr int kChunk = 512;
+// Runs of 512 triangles over the first 3/4 of the mesh, then of 128: the threads take them in
+// order, so the small ones at the end even out the threads' finishing times (a 512-run is
+// about 4 ms of one of the GPU host's threads), while most of the mesh goes in runs whose
+// arena slices overlap less (the T-shirt's slices hold 2.4 x the matrix's slots at 512).
+constexpr int kChunk = 512, kTailChunk = 128;
 
 void sum_chunks(int64_t n, const std::vector<int64_t>& lo, const std::vector<int64_t>& hi,
                 const std::vector<int64_t>& off, const std::vector<double>& arena, double* out);
@@ -73,6 +77,7 @@ void sum_chunks(int64_t n, const std::vector<int64_t>& lo, const std::vector<int
 
 struct ElementChunks {
   int triangles = -1;
+  std::vector<int> first;               // chunk c: triangles first[c] .. first[c + 1]
   bool with_slots = false;
   std::vector<int64_t> vlo, vhi, voff;  // gradient entries [vlo, vhi) at voff in the arenas
   std::vector<int64_t> hlo, hhi, hoff;  // value slots [hlo, hhi) at hoff in harena
@@ -83,14 +88,20 @@ struct ElementChunks {
 namespace {
 
 void layout_chunks(const Mesh& m, const HessianPattern* pattern, ElementChunks& C) {
-  const int nt = m.num_triangles(), nchunks = (nt + kChunk - 1) / kChunk;
+  const int nt = m.num_triangles();
+  C.first.assign(1, 0);
+  for (int t = 0; t < nt;) {
+    t = std::min(nt, t + (t < nt - nt / 4 ? kChunk : kTailChunk));
+    C.first.push_back(t);
+  }
+  const int nchunks = int(C.first.size()) - 1;
   C.triangles = nt;
   C.with_slots = pattern != nullptr;
   C.vlo.assign(size_t(nchunks), INT64_MAX), C.vhi.assign(size_t(nchunks), 0);
   C.hlo.assign(pattern ? size_t(nchunks) : 0, INT64_MAX), C.hhi.assign(pattern ? size_t(nchunks) : 0, 0);
 #pragma omp parallel for schedule(static) if (nt >= kParallelElements)
   for (int c = 0; c < nchunks; ++c)
-    for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t) {
+    for (int t = C.first[size_t(c)]; t < C.first[size_t(c) + 1]; ++t) {
       for (int i = 0; i < 3; ++i)
         for (int v : {m.tris(t, i), m.flaps(t, i)}) {
           if (v < 0) continue;
@@ -167,7 +178,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
   const bool hess = pattern && values;
   const bool couple = hess && move && coupling;
   const int nt = m.num_triangles();
-  // Fixed chunks of kChunk triangles, taken by the threads as they come (the cost of a triangle
+  // Fixed chunks of triangles (layout_chunks), taken by the threads as they come (the cost of a triangle
   // varies: its eigenproblems, its material's tables; fixed ranges per thread left the slowest
   // of 16 threads 20 % behind the mean). Each chunk sums its energy, gradient and Hessian in its
   // own place (an arena slice over the vertices and value slots it touches, laid out once per
@@ -208,7 +219,7 @@ double shell_energy_derivatives(const Mesh& m, const std::vector<ElementRest>& r
       }
       double E = 0;
       auto t0 = Clock::now();
-      for (int t = c * kChunk; t < std::min(nt, (c + 1) * kChunk); ++t) {
+      for (int t = C->first[c_]; t < C->first[c_ + 1]; ++t) {
         bool fl[3];
         const Vec18 q = gather(m, x, t, fl);
         Jac6x18 J;
