@@ -16,6 +16,9 @@
 #include "core/jet_layout.hpp"
 #include "cpu/loss_step.hpp"
 #include "cuda/api.hpp"
+#include "cuda/block_jacobi_pcg.hpp"
+#include "numerics/block_jacobi_pcg.hpp"
+#include "tests/common/pcg_test_system.hpp"
 
 using namespace yarnhom;
 
@@ -157,6 +160,35 @@ BENCHMARK(BM_Cuda_FusedFwdBwd)
     ->Unit(benchmark::kMicrosecond)
     ->Name("BM_Cuda_LaunchShape");
 BENCHMARK(BM_Cpu_FusedFwdBwd)->Apply([](auto* b) { sizes(b, false); });
+
+// One solve of the block-Jacobi PCG's GPU twin (cuda/block_jacobi_pcg.cu: five launches an
+// iteration in CUDA graphs of eight) to the one-solve step's relative residual 1e-3, on the
+// shell's stencil (tests/common/pcg_test_system.hpp: range(0) vertices a side, 121: a T-shirt's
+// 43,923 unknowns, 57 entries a row); the system uploaded once. The CPU twin's is
+// BM_BlockJacobiPcg (bench_sim.cpp), on the same system.
+void BM_CudaBlockJacobiPcg(benchmark::State& state) {
+  const Eigen::SparseMatrix<double> L = test::pcg_shell_system(int(state.range(0)), 0.001, 1.0);
+  numerics::BlockJacobiBuilder builder;
+  numerics::BlockCsr A;
+  builder.build(L, A);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.n, -1.0, 1.0).array().sin();
+  Eigen::VectorXd x(A.n);
+  auto dev = cuda::make_pcg_device();
+  dev->upload(A);
+  numerics::BlockPcgResult r;
+  double seconds = 0;
+  long iterations = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    r = dev->solve(b.data(), x.data(), 1e-3, 100000);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    iterations += r.iterations;
+  }
+  state.counters["unknowns"] = A.n;
+  state.counters["iterations"] = r.iterations;
+  state.counters["us_per_iteration"] = iterations > 0 ? 1e6 * seconds / double(iterations) : 0.0;
+}
+BENCHMARK(BM_CudaBlockJacobiPcg)->Arg(121)->Arg(90)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);

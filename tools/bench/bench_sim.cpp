@@ -7,6 +7,7 @@
 // trained model's tables. The sheet is in a draped-like state (wrinkled, compressed, bent).
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <random>
 #include <omp.h>
@@ -29,6 +30,8 @@
 #include "sim/rectangle.hpp"
 #include "sim/shell_energy.hpp"
 #include "sim/shell_strain.hpp"
+#include "numerics/block_jacobi_pcg.hpp"
+#include "tests/common/pcg_test_system.hpp"
 
 using namespace yarnhom;
 using namespace yarnhom::numerics;
@@ -244,6 +247,33 @@ void BM_BoxPairs(benchmark::State& state) {
   state.counters["pairs"] = double(pairs);
 }
 BENCHMARK(BM_BoxPairs)->Args({16000, 1})->Args({16000, 2})->Args({16000, 16})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// One solve of the block-Jacobi PCG's CPU twin (numerics/block_jacobi_pcg.hpp) to the one-solve
+// step's relative residual 1e-3, on the shell's stencil (tests/common/pcg_test_system.hpp:
+// range(0) vertices a side, 121: a T-shirt's 43,923 unknowns, mass 1e-3 against stiffness 1: 249
+// iterations, as the T-shirt's 246-257; one thread below 100,000 unknowns). The GPU twin's is
+// BM_CudaBlockJacobiPcg (bench_cuda.cpp), on the same system.
+void BM_BlockJacobiPcg(benchmark::State& state) {
+  const Eigen::SparseMatrix<double> L = test::pcg_shell_system(int(state.range(0)), 0.001, 1.0);
+  BlockJacobiBuilder builder;
+  BlockCsr A;
+  builder.build(L, A);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.n, -1.0, 1.0).array().sin();
+  Eigen::VectorXd x(A.n);
+  BlockPcgResult r;
+  double seconds = 0;
+  long iterations = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    r = block_jacobi_pcg(A, b.data(), x.data(), 1e-3, 100000);
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    iterations += r.iterations;
+  }
+  state.counters["unknowns"] = A.n;
+  state.counters["iterations"] = r.iterations;
+  state.counters["us_per_iteration"] = iterations > 0 ? 1e6 * seconds / double(iterations) : 0.0;
+}
+BENCHMARK(BM_BlockJacobiPcg)->Arg(121)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
