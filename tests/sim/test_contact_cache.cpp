@@ -396,3 +396,52 @@ TEST(ContactCache, PairTermsAreTheSameOnAnyThreadCount) {
     EXPECT_EQ(std::get<2>(one), std::get<2>(three)) << friction;
   }
 }
+
+// A rebuild with a pad of many blocks (200,000 of them, duplicates and blocks already in A among
+// them, the (-1, -1) places a pair of held points leaves): the pad's blocks are sorted on the
+// threads from 65,536 on (sim/contact_pattern.cpp); the pattern is the union of A's and the
+// pad's full 3 x 3 blocks exactly, on 1 thread as on 3.
+TEST(ContactCache, PaddedPatternOfAManyBlockPadIsTheUnionOnAnyThreadCount) {
+  const int nv = 1200, n = 3 * nv;
+  std::vector<Eigen::Triplet<double>> t;
+  for (int i = 0; i < n; ++i) t.emplace_back(i, i, 1.0);
+  for (int v = 1; v < nv; ++v) t.emplace_back(3 * v, 3 * (v - 1), 0.5);
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> vert(0, nv - 1);
+  std::vector<std::pair<int, int>> blocks;
+  for (int k = 0; k < 200000; ++k) {
+    const int a = vert(rng), b = std::max(0, a - 1 - vert(rng) % 40);
+    blocks.emplace_back(k % 50 == 0 ? -1 : a, k % 50 == 0 ? -1 : b);
+  }
+  const PaddedPattern::Pad pad = [&] { return blocks; };
+  // The expected pattern: A's entries, and for every pad block fa > fb its 3 x 3 entries.
+  std::vector<std::vector<int>> rows(n);
+  for (int j = 0; j < A.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) rows[size_t(j)].push_back(int(it.row()));
+  for (const auto& [fa, fb] : blocks)
+    if (fa > fb && fb >= 0)
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) rows[size_t(3 * fb + c)].push_back(3 * fa + r);
+  for (auto& r : rows) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  const int saved = omp_get_max_threads();
+  std::vector<Eigen::SparseMatrix<double>> got;
+  for (int threads : {1, 3}) {
+    omp_set_num_threads(threads);
+    PaddedPattern kept;
+    got.push_back(kept.embed(A, pad));
+    omp_set_num_threads(saved);
+  }
+  for (const auto& M : got) {
+    ASSERT_EQ(M.outerSize(), n);
+    for (int j = 0; j < n; ++j) {
+      const std::vector<int> col(M.innerIndexPtr() + M.outerIndexPtr()[j], M.innerIndexPtr() + M.outerIndexPtr()[j + 1]);
+      ASSERT_EQ(col, rows[size_t(j)]) << "column " << j;
+    }
+    EXPECT_EQ(Eigen::SparseMatrix<double>(M - A).norm(), 0.0);  // A's values, zeros elsewhere
+  }
+}
