@@ -16,6 +16,7 @@
 #include "numerics/psd_projection.hpp"
 #include "sim/rectangle.hpp"
 #include "sim/shell_energy.hpp"
+#include "sim/simulation.hpp"
 #include "tests/common/fd_util.hpp"
 #include "tests/common/poly_material.hpp"
 
@@ -228,5 +229,32 @@ TEST(ShellEnergy, AssemblyOnAnyThreadCountIsTheOneThreadsBitForBit) {
     for (int f = 0; f < D.num_free(); ++f)
       fd.segment<3>(3 * f) = (gp - gm).segment<3>(3 * D.free_vertices[size_t(f)]) / (2 * eps);
     EXPECT_LT(test::rel_err(VectorXd(Hfull * df), fd), 1e-6) << trial;
+  }
+}
+
+// The step's strain check (sim/simulation.hpp, unphysical_strain) scans the triangles on the
+// threads from 4,096 on: with two vertices dragged far off a 4,500-triangle sheet it names the
+// first triangle beyond the limits (as a scan in order finds it), on 1 thread as on 3; the flat
+// sheet passes.
+TEST(ShellEnergy, StrainCheckNamesTheFirstTriangleBeyondTheLimitsOnAnyThreadCount) {
+  const Mesh m = make_rectangle(0.3, 0.25, 50, 45);
+  ASSERT_GE(m.num_triangles(), 4096);
+  const Problem P = make_problem(m, material(), 0.2);
+  VectorXd x(3 * m.num_vertices());
+  for (int v = 0; v < m.num_vertices(); ++v) x.segment<3>(3 * v) = Eigen::Vector3d(m.rest(v, 0), m.rest(v, 1), 0);
+  EXPECT_FALSE(unphysical_strain(P, x, nullptr).has_value());
+  for (int v : {rectangle_vertex(50, 40, 30), rectangle_vertex(50, 7, 9)}) x[3 * v] += 0.5;  // 6 cm triangles stretched 8x
+  const std::vector<Strain6> s = triangle_strains(m, P.rest, x);
+  int first = -1;
+  for (int t = 0; t < m.num_triangles() && first < 0; ++t)
+    if (std::abs(s[size_t(t)][0]) > 5 || std::abs(s[size_t(t)][2]) > 5) first = t;
+  ASSERT_GE(first, 0);
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 3}) {
+    omp_set_num_threads(threads);
+    const auto why = unphysical_strain(P, x, nullptr);
+    omp_set_num_threads(saved);
+    ASSERT_TRUE(why.has_value()) << threads;
+    EXPECT_NE(why->find("triangle " + std::to_string(first) + " reached"), std::string::npos) << *why;
   }
 }
