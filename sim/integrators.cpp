@@ -149,9 +149,7 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     if (contact) {
       prof::Scope ps("step start: make the moves safe");
       t_s = make_move_safe(P, D.free_index, x, xs, y0, y1, 6, cache);
-      t_n = make_move_safe(P, D.free_index, x, xn, y0, y1, 6, cache);
     }
-    t_first = t_n;
     double phi_start;
     if (std::isfinite(potential_at_x) && xs == x && !contact) {
       // Phi(x_n) = the inertia term, which is the kinetic energy there, plus the potential
@@ -168,7 +166,31 @@ StepStats implicit_euler_step(const Problem& P, const DofMap& D, const HessianPa
     } else {
       phi_start = potential_value(P, D, S, xs);
     }
-    const double phi_pred = potential_value(P, D, S, xn);
+    // With contact, the prediction is made safe (which costs CCDs over its whole move) only
+    // when it can win: its potential without the contact pairs' terms (>= 0) below phi_start.
+    // Making it safe holds vertices back at x_n or carries them along an obstacle, which raises
+    // the inertia term and the strain around them more often than it lowers anything, so a
+    // prediction above phi_start without the pairs is taken as above it with them. (A falling
+    // sheet's prediction is above x_n's in nearly every step: its velocities carry the last
+    // step's rounding and curl, extrapolated.)
+    double phi_pred;
+    if (contact) {
+      double shell_raw = NAN;
+      const double phi_raw = potential_value_without_pairs(P, D, S, xn, &shell_raw);
+      if (!(phi_raw <= phi_start) && std::isfinite(phi_start)) {
+        phi_pred = phi_raw;
+      } else {
+        const Eigen::VectorXd raw = xn;
+        {
+          prof::Scope ps("step start: make the moves safe");
+          t_n = make_move_safe(P, D.free_index, x, xn, y0, y1, 6, cache);
+        }
+        phi_pred = potential_value(P, D, S, xn, nullptr, xn == raw ? &shell_raw : nullptr);
+      }
+    } else {
+      phi_pred = potential_value(P, D, S, xn);
+    }
+    t_first = t_n;
     if (!(phi_pred <= phi_start) && std::isfinite(phi_start)) {
       xn = xs;
       t_first = t_s;

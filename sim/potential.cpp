@@ -118,10 +118,9 @@ double rayleigh_beta_term(const Problem& P, const DofMap& D, const StepState& S,
   return 0.5 * c * dx.dot(Kdx);
 }
 
-}  // namespace
-
-double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
-                       double* shell, const double* known_shell) {
+// potential_value, with (pairs) or without the contact pairs' terms.
+double potential_value_terms(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                             double* shell, const double* known_shell, bool pairs) {
   double E;
   {
     prof::Scope ps("energy: elements");
@@ -135,7 +134,7 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
     E = add_vertex_terms(E, P, D, S, x, nullptr, nullptr, nullptr);
     for (const FrictionContact& c : S.friction) E += friction_energy(c, x.segment<3>(3 * c.vertex), S.friction_eps);
   }
-  if (has_contact(P)) {
+  if (pairs && has_contact(P)) {
     prof::Scope ps("energy: contact");
     const Eigen::VectorXd y = solve_obstacles(P, S);
     E += contact_energy(P, D.free_index, x, y, nullptr, nullptr, S.contact_cache.get());
@@ -146,6 +145,18 @@ double potential_value(const Problem& P, const DofMap& D, const StepState& S, co
     E += seam_energy(P, D.free_index, x, S.time);
   }
   return E + rayleigh_beta_term(P, D, S, x, nullptr, nullptr);
+}
+
+}  // namespace
+
+double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                       double* shell, const double* known_shell) {
+  return potential_value_terms(P, D, S, x, shell, known_shell, true);
+}
+
+double potential_value_without_pairs(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                                     double* shell, const double* known_shell) {
+  return potential_value_terms(P, D, S, x, shell, known_shell, false);
 }
 
 double potential_derivatives(const Problem& P, const DofMap& D, const HessianPattern& pat, const StepState& S,

@@ -59,6 +59,10 @@ Eigen::MatrixX3d vertex_normals(const Mesh& mesh, const Eigen::VectorXd& x);
 // known_shell (optional): E_shell(x) already known (on S's branches): used instead of a pass.
 double potential_value(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
                        double* shell = nullptr, const double* known_shell = nullptr);
+// The same without the contact pairs' terms (their barrier and friction, both >= 0): a lower
+// bound of potential_value at x, without the pairs' broad phase.
+double potential_value_without_pairs(const Problem& P, const DofMap& D, const StepState& S, const Eigen::VectorXd& x,
+                                     double* shell = nullptr, const double* known_shell = nullptr);
 
 // Value; gradient (3n, every vertex) written to grad; Hessian over the free vertices added to
 // values (the pattern's value array) when given. shell (optional): E_shell(x) alone.

@@ -217,6 +217,27 @@ TEST(Contact, EnergyGradientAndHessianMatchFiniteDifferences) {
   EXPECT_GT(Hf.norm(), 0);
 }
 
+TEST(Contact, PotentialWithoutThePairsIsThePotentialLessTheirEnergy) {
+  // The step start's lower bound (sim/integrators.cpp rejects a prediction on it): the whole
+  // potential less the contact pairs' barrier energy, which is > 0 here (all pair kinds active).
+  const Problem P = test::two_sheets_over_a_capsule(2, 0, [](int v) { return Eigen::Vector3d(0.003 * (v % 2), 0.002, 0.0006 + 0.0001 * (v % 3)); });
+  const Eigen::VectorXd x = flatten(P.mesh.x), y = obstacle_positions(P.obstacles, 0);
+  const DofMap D = make_dof_map(P.mesh.num_vertices(), {});
+  StepState S;
+  S.dynamic = false;
+  const double pairs = contact_energy(P, D.free_index, x, y);
+  ASSERT_GT(pairs, 0);
+  double shell_all = NAN, shell_without = NAN;
+  const double all = potential_value(P, D, S, x, &shell_all);
+  const double without = potential_value_without_pairs(P, D, S, x, &shell_without);
+  EXPECT_EQ(shell_all, shell_without);
+  EXPECT_LT(without, all);
+  EXPECT_NEAR(all - without, pairs, 1e-12 * std::abs(all));
+  // A known shell energy is used as it is.
+  const double known = shell_all + 1.0;
+  EXPECT_NEAR(potential_value_without_pairs(P, D, S, x, nullptr, &known), without + 1.0, 1e-12 * std::abs(all));
+}
+
 TEST(Contact, TshirtIsSewnOnTheMannequinWithoutIntersections) {
   // The coarsest T-shirt (8 cm grid), sewn faster than the scene's default (over 6 frames
   // instead of 15) and then hanging on the mannequin: checked every frame; the seams closed.
