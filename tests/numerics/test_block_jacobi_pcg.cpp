@@ -203,7 +203,9 @@ TEST(BlockJacobiPcg, KeepsThePatternIdWhileThePatternStays) {
   int diag = 0;
   for (int k = 0; k < int(L.nonZeros()); ++k) {
     EXPECT_EQ(2.0 * L.valuePtr()[k], A.val[size_t(m.pos[size_t(k)])]);
-    if (m.mirror[size_t(k)] >= 0) EXPECT_EQ(2.0 * L.valuePtr()[k], A.val[size_t(m.mirror[size_t(k)])]);
+    if (m.mirror[size_t(k)] >= 0) {
+      EXPECT_EQ(2.0 * L.valuePtr()[k], A.val[size_t(m.mirror[size_t(k)])]);
+    }
     diag += m.diag[size_t(k)] >= 0;
   }
   EXPECT_EQ(diag, 6 * A.n / 3);  // each 3 x 3 diagonal block's lower triangle

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -158,6 +159,29 @@ TEST(CliSim, StretchReportsForcePerClampWidthAsCsvAndPng) {
 
 // The stability claim with a model trained here (synthetic data, the paper's recipe) and
 // baked; the synthetic energy is ~70 times softer than a knit, hence the light sheet.
+TEST(CliSim, FactorizesWithTheKernelsChosenForTheCpu) {
+  // numerics/blas_threads.hpp: `sim` starts again with OPENBLAS_CORETYPE when OpenBLAS's own
+  // pick costs the factorization time; its header names the kernels it then runs with.
+  if (std::getenv("OPENBLAS_CORETYPE")) GTEST_SKIP() << "OPENBLAS_CORETYPE is set: the user's choice is kept";
+  const std::string d = tmpdir("kernels");
+  std::ofstream(d + "/mat.json") << hylc_json(0.3);
+  auto r = run("sim stretch -o " + d + "/out --material " + d + "/mat.json --resolution 2 --frames 1 --render none");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const size_t at = r.out.find("OpenBLAS ");
+  if (at == std::string::npos) GTEST_SKIP() << "the BLAS is not OpenBLAS: " << r.out.substr(0, 300);
+  const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+  __builtin_cpu_init();
+  const bool amd = __builtin_cpu_is("amd"), avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  for (const char* fallback : {" Prescott ", " Core2 ", " Nehalem ", " unknown "}) {
+    if (avx2) {
+      EXPECT_EQ(line.find(fallback), std::string::npos) << "an AVX2 CPU left with a fallback set: " << line;
+    }
+  }
+  if (amd && avx2 && __builtin_cpu_supports("avx512f")) {
+    EXPECT_NE(line.find(" Zen "), std::string::npos) << "an AMD CPU with AVX-512 not on OpenBLAS's Zen kernels: " << line;
+  }
+}
+
 TEST(CliSim, DrapeWithATrainedModelIsStableAndExportRoundTrips) {
   const std::string d = tmpdir("drape");
   ASSERT_EQ(run("synth -o " + d + "/d.h5").status, 0);
