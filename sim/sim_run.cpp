@@ -21,6 +21,7 @@
 #include "material/material_source.hpp"
 #include "numerics/blas_threads.hpp"
 #ifdef YARNHOM_SIM_CUDA
+#include "cuda/api.hpp"
 #include "cuda/block_jacobi_pcg.hpp"
 #endif
 #include "sim/garment.hpp"
@@ -404,7 +405,11 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
 #ifdef YARNHOM_SIM_CUDA
   numerics::register_pcg_device(&cuda::make_pcg_device);  // --solver pcg-cuda
 #endif
-  set.solver = parse_solver_kind(o.solver);
+  bool gpu_usable = false;
+#ifdef YARNHOM_SIM_CUDA
+  gpu_usable = o.solver == "auto" && cuda::device_count() > 0;
+#endif
+  set.solver = resolve_auto_solver(parse_solver_kind(o.solver), s, gpu_usable);
   set.pcg_tolerance = o.pcg_tolerance;
   set.hessian = parse_hessian_model(o.hessian);
   set.eigen_filter = o.eigen_filter == "clamp" ? numerics::EigenFilter::Clamp : numerics::EigenFilter::Abs;

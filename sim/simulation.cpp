@@ -288,6 +288,12 @@ void last_state_residual(const Problem& P, const DofMap& D, const HessianPattern
 
 }  // namespace
 
+SolverKind resolve_auto_solver(SolverKind asked, const Scene& scene, bool gpu_usable) {
+  if (asked != SolverKind::Auto || !gpu_usable) return asked;
+  if (scene.integrator == Integrator::Static || scene.mesh.num_vertices() < kAutoGpuVertices) return asked;
+  return SolverKind::PcgCuda;
+}
+
 SimResult run_simulation(const Scene& scene, const MaterialFn& material, double density, const SimSettings& set,
                          const FrameCallback& on_frame) {
   const bool dynamic = scene.integrator != Integrator::Static;

@@ -84,6 +84,17 @@ struct SimResult {
 // Called after every frame with the frame number and the steps so far.
 using FrameCallback = std::function<void(int frame, const SimResult&)>;
 
+// What `--solver auto` runs for a scene: the GPU's CG (SolverKind::PcgCuda) for a moving scene
+// (any integrator but Static) of kAutoGpuVertices vertices or more when a GPU can run it
+// (gpu_usable: the build has CUDA and the machine a device), else Auto (CHOLMOD when the build
+// has it). On the H200 host the GPU's CG was the faster at every drape size measured, from 800
+// triangles (441 vertices: one-solve step 9.6 ms against 13.7 on 2 cores, Newton 68.5 against
+// 89.1) to 16k (124.7 against 336.3; Newton 459.8 against 1,155.6; docs/benchmarks.md, "The
+// GPU's CG by size"); a quasi-static stretch keeps the exact factorization its tight tolerance
+// needs. Any other kind asked is kept.
+inline constexpr int kAutoGpuVertices = 400;
+SolverKind resolve_auto_solver(SolverKind asked, const Scene& scene, bool gpu_usable);
+
 // areal_density in kg/m^2 (0 allowed only without gravity and for static runs).
 SimResult run_simulation(const Scene& scene, const MaterialFn& material, double areal_density,
                          const SimSettings& settings, const FrameCallback& on_frame = nullptr);

@@ -43,3 +43,23 @@ TEST(PcgSolver, OneSolveDrapeFollowsTheDirectSolversTrajectory) {
               double(tight.solver_iterations) / tight.solver_solves,
               double(loose.solver_iterations) / loose.solver_solves);
 }
+
+TEST(PcgSolver, AutoRunsTheGpusCgForAMovingSceneOfSizeWhenAGpuIsThere) {
+  // sim/simulation.hpp, resolve_auto_solver: what `--solver auto` becomes.
+  Scene drape = builtin_scene("drape", 20);  // 441 vertices
+  ASSERT_GE(drape.mesh.num_vertices(), kAutoGpuVertices);
+  EXPECT_EQ(resolve_auto_solver(SolverKind::Auto, drape, true), SolverKind::PcgCuda);
+  EXPECT_EQ(resolve_auto_solver(SolverKind::Auto, drape, false), SolverKind::Auto);  // no GPU
+  drape.integrator = Integrator::Newton;
+  EXPECT_EQ(resolve_auto_solver(SolverKind::Auto, drape, true), SolverKind::PcgCuda);
+  // A quasi-static solve keeps the exact factorization.
+  const Scene stretch = builtin_scene("stretch", 20);
+  ASSERT_EQ(stretch.integrator, Integrator::Static);
+  EXPECT_EQ(resolve_auto_solver(SolverKind::Auto, stretch, true), SolverKind::Auto);
+  // A small sheet too (the tests' meshes), and any kind a user named.
+  const Scene small = builtin_scene("drape", 10);
+  ASSERT_LT(small.mesh.num_vertices(), kAutoGpuVertices);
+  EXPECT_EQ(resolve_auto_solver(SolverKind::Auto, small, true), SolverKind::Auto);
+  for (SolverKind k : {SolverKind::Cholmod, SolverKind::Ldlt, SolverKind::Pcg})
+    EXPECT_EQ(resolve_auto_solver(k, drape, true), k);
+}

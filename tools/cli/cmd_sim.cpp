@@ -87,7 +87,8 @@ void add_integrator_options(CLI::App* cmd, sim::SimRunOptions& o) {
 // The linear solves, threads and outputs.
 void add_solver_options(CLI::App* cmd, sim::SimRunOptions& o) {
   cmd->add_option("--solver", o.solver,
-                  "Linear solver of the steps: auto (CHOLMOD when built with it), ldlt (Eigen), cholmod, pcg "
+                  "Linear solver of the steps: auto (pcg-cuda for a moving scene of 400 vertices or more when this build "
+                  "has CUDA and a GPU is there, else CHOLMOD when built with it), ldlt (Eigen), cholmod, pcg "
                   "(block-Jacobi preconditioned conjugate gradients on the CPU, to --pcg-tolerance) or pcg-cuda (the "
                   "same on the GPU, in builds with CUDA: at 16k triangles a solve of about 10 ms against CHOLMOD's "
                   "~160 ms on 2 cores; docs/sim.md, \"Linear solvers\")")
