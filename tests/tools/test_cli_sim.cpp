@@ -182,6 +182,19 @@ TEST(CliSim, FactorizesWithTheKernelsChosenForTheCpu) {
   }
 }
 
+TEST(CliSim, HeaderNamesTheLinearSolver) {
+  const std::string d = tmpdir("solver");
+  std::ofstream(d + "/mat.json") << hylc_json(0.3);
+  auto r = run("sim stretch -o " + d + "/a --material " + d + "/mat.json --resolution 2 --frames 1 --render none");
+  ASSERT_EQ(r.status, 0) << r.out;
+  // A quasi-static stretch factors (CHOLMOD, or Eigen's LDL^T in a build without it), GPU or not.
+  EXPECT_TRUE(r.out.find("; solver cholmod;") != std::string::npos || r.out.find("; solver ldlt;") != std::string::npos)
+      << r.out.substr(0, 400);
+  r = run("sim drape -o " + d + "/b --material " + d + "/mat.json --density 0.3 --resolution 2 --frames 1 --render none --solver pcg");
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("; solver pcg;"), std::string::npos) << r.out.substr(0, 400);
+}
+
 TEST(CliSim, DrapeWithATrainedModelIsStableAndExportRoundTrips) {
   const std::string d = tmpdir("drape");
   ASSERT_EQ(run("synth -o " + d + "/d.h5").status, 0);
