@@ -29,6 +29,17 @@ SolverKind parse_solver_kind(const std::string& name) {
   throw std::invalid_argument("solver '" + name + "': expected auto, ldlt, cholmod, pcg or pcg-cuda");
 }
 
+const char* solver_kind_name(SolverKind k) {
+  switch (k) {
+    case SolverKind::Ldlt: return "ldlt";
+    case SolverKind::Cholmod: return "cholmod";
+    case SolverKind::Pcg: return "pcg";
+    case SolverKind::PcgCuda: return "pcg-cuda";
+    case SolverKind::Auto: break;
+  }
+  return cholmod_available() ? "cholmod" : "ldlt";
+}
+
 bool cholmod_available() {
 #ifdef YARNHOM_HAVE_CHOLMOD
   return true;

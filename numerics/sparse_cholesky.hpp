@@ -21,6 +21,8 @@ enum class SolverKind { Auto, Ldlt, Cholmod, Pcg, PcgCuda };
 // (docs/benchmarks.md, "Drape at 16k triangles").
 enum class Ordering { Default, Metis, NestedDissection };
 SolverKind parse_solver_kind(const std::string& name);  // "auto", "ldlt", "cholmod", "pcg", "pcg-cuda"
+// The name parse_solver_kind takes for k; Auto as what it runs ("cholmod", or "ldlt" without CHOLMOD).
+const char* solver_kind_name(SolverKind k);
 bool cholmod_available();
 
 class SparseCholesky {

@@ -422,11 +422,8 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
   if (!o.no_frames) write_rest_obj((fs::path(o.out) / "rest.obj").string(), s.mesh);  // the frames' uv are in [0, 1]
   const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   // The linear solver, and why when `auto` chose the GPU's CG.
-  const char* solver = set.solver == SolverKind::PcgCuda ? (o.solver == "auto" ? "pcg-cuda (auto: a GPU is there)" : "pcg-cuda")
-                       : set.solver == SolverKind::Pcg   ? "pcg"
-                       : set.solver == SolverKind::Ldlt  ? "ldlt"
-                       : set.solver == SolverKind::Cholmod || numerics::cholmod_available() ? "cholmod"
-                                                                                             : "ldlt";
+  const std::string solver = std::string(numerics::solver_kind_name(set.solver)) +
+                             (o.solver == "auto" && set.solver == SolverKind::PcgCuda ? " (auto: a GPU is there)" : "");
   std::fprintf(stderr,
                "sim %s: %d triangles, %d vertices; material %s (%s)%s; density %g kg/m^2%s; %s, dt %g s x %d "
                "substep(s), %d %s; friction %s; solver %s; %d thread(s); %s\n",
@@ -434,7 +431,7 @@ SimRunOutcome run_sim(const SimRunOptions& o) {
                mat.missing_terms.empty() ? "" : (", absent terms count as 0: " + mat.missing_terms).c_str(), rho,
                rho_from.empty() ? "" : (" (from " + rho_from + ")").c_str(), integrator_name(s.integrator), s.dt,
                s.substeps, s.frames, s.integrator == Integrator::Static ? "load steps" : "frames",
-               friction_description(s).c_str(), solver, threads, numerics::blas_description());
+               friction_description(s).c_str(), solver.c_str(), threads, numerics::blas_description());
   if (mat.guard && !o.quiet) std::fprintf(stderr, "sim %s: %s\n", s.name.c_str(), describe(*mat.guard).c_str());
   const auto start = Clock::now();
   // What the simulation refuses at its start (a vertex inside a collider, a collider's friction)

@@ -101,6 +101,10 @@ TEST(BlockJacobiPcg, SparseCholeskyRunsItAsTheIterativeKind) {
   const Eigen::SparseMatrix<double> L = pcg_test_system(8, 0.01, 1.0);
   const Eigen::SparseMatrix<double> Afull = L.selfadjointView<Eigen::Lower>();
   EXPECT_EQ(parse_solver_kind("pcg"), SolverKind::Pcg);
+  // solver_kind_name is parse_solver_kind's inverse; Auto is named by what it runs.
+  for (SolverKind k : {SolverKind::Ldlt, SolverKind::Pcg}) EXPECT_EQ(parse_solver_kind(solver_kind_name(k)), k);
+  EXPECT_STREQ(solver_kind_name(SolverKind::PcgCuda), "pcg-cuda");
+  EXPECT_STREQ(solver_kind_name(SolverKind::Auto), cholmod_available() ? "cholmod" : "ldlt");
   if (!pcg_device_factory()) {
     try {
       parse_solver_kind("pcg-cuda");
